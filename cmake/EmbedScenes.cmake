@@ -1,0 +1,12 @@
+# Writes a C++ file with every scene file in DIR as a raw string literal (cmake -P script).
+file(GLOB FILES ${DIR}/*.toml)
+list(SORT FILES)
+set(body "#include <string>\n#include <vector>\n#include \"sim/scene_file.h\"\nnamespace mf {\nnamespace {\nstruct Embedded { const char* name; const char* text; };\nconst Embedded kScenes[] = {\n")
+foreach(f ${FILES})
+  get_filename_component(name ${f} NAME_WE)
+  file(READ ${f} text)
+  string(APPEND body "  {\"${name}\", R\"MFSCENE(${text})MFSCENE\"},\n")
+endforeach()
+string(APPEND body "};\n}  // namespace\nstd::vector<std::string> embeddedSceneNames() {\n  std::vector<std::string> n;\n  for (const auto& s : kScenes) n.push_back(s.name);\n  return n;\n}\nconst char* embeddedSceneText(const std::string& name) {\n  for (const auto& s : kScenes) if (name == s.name) return s.text;\n  return nullptr;\n}\n}  // namespace mf\n")
+file(WRITE ${OUT}.new "${body}")
+execute_process(COMMAND ${CMAKE_COMMAND} -E copy_if_different ${OUT}.new ${OUT})

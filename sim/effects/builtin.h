@@ -1,0 +1,14 @@
+// Factories of the effects that ship with the simulator; effectRegistry() lists them.
+#pragma once
+
+#include <memory>
+
+#include "../effect.h"
+
+namespace mf::effects {
+
+EffectInfo gravityInfo();
+EffectInfo pressureInfo();
+EffectInfo viscosityInfo();
+
+}  // namespace mf::effects

@@ -1,0 +1,155 @@
+#include "neighbor_search.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mf {
+
+namespace {
+
+uint64_t spreadBits(uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+constexpr int32_t kMaxCoord = (1 << 21) - 1;
+
+struct KeyIndex {
+  uint64_t key;
+  uint32_t index;
+  bool operator<(const KeyIndex& o) const { return key < o.key || (key == o.key && index < o.index); }
+};
+
+// Fixed work-block size: block boundaries never depend on the thread count.
+constexpr size_t kCellsPerBlock = 64;
+
+}  // namespace
+
+uint64_t mortonKey(uint32_t x, uint32_t y, uint32_t z) {
+  return spreadBits(x) | (spreadBits(y) << 1) | (spreadBits(z) << 2);
+}
+
+void CellGrid::cellOf(const Vec3& p, int32_t c[3]) const {
+  for (int a = 0; a < 3; ++a) {
+    const Real f = std::floor((p[a] - origin_[a]) / cellSize_);
+    // NaN compares false everywhere: it lands in cell 0 and the watchdog reports it.
+    c[a] = f > 0 ? (f < kMaxCoord ? int32_t(f) : kMaxCoord) : 0;
+  }
+}
+
+void CellGrid::build(const Vec3* points, size_t n, const Vec3& origin, Real cellSize) {
+  origin_ = origin;
+  cellSize_ = cellSize;
+  std::vector<KeyIndex> keys(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      int32_t c[3];
+      cellOf(points[i], c);
+      keys[i] = {mortonKey(c[0], c[1], c[2]), uint32_t(i)};
+    }
+  });
+  tbb::parallel_sort(keys.begin(), keys.end());
+
+  sorted_.resize(n);
+  cellKeys_.clear();
+  cellStart_.clear();
+  cellCoord_.clear();
+  for (size_t p = 0; p < n; ++p) {
+    sorted_[p] = keys[p].index;
+    if (p == 0 || keys[p].key != keys[p - 1].key) {
+      cellKeys_.push_back(keys[p].key);
+      cellStart_.push_back(uint32_t(p));
+      int32_t c[3];
+      cellOf(points[keys[p].index], c);
+      cellCoord_.insert(cellCoord_.end(), c, c + 3);
+    }
+  }
+  cellStart_.push_back(uint32_t(n));
+}
+
+int64_t CellGrid::findCell(uint64_t key) const {
+  auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), key);
+  if (it == cellKeys_.end() || *it != key) return -1;
+  return it - cellKeys_.begin();
+}
+
+void CellGrid::findNeighbors(const Vec3* points, const CellGrid& other, const Vec3* otherPoints,
+                             Real radius, bool excludeSelf, NeighborLists& out) const {
+  const size_t nPoints = sorted_.size();
+  const size_t nCells = cellKeys_.size();
+  const size_t nBlocks = (nCells + kCellsPerBlock - 1) / kCellsPerBlock;
+  const Real r2max = radius * radius;
+  // The other grid may have a different origin: neighbour cells are looked up by position.
+  const bool sameLayout = other.origin_ == origin_ && other.cellSize_ == cellSize_;
+
+  std::vector<std::vector<uint32_t>> blockIndices(nBlocks);
+  std::vector<uint32_t> counts(nPoints + 1, 0);
+
+  tbb::parallel_for(size_t(0), nBlocks, [&](size_t b) {
+    std::vector<uint32_t>& buf = blockIndices[b];
+    buf.clear();
+    const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
+    uint32_t ranges[27][2];
+    for (size_t c = c0; c < c1; ++c) {
+      int nr = 0;
+      int32_t base[3] = {cellCoord_[3 * c], cellCoord_[3 * c + 1], cellCoord_[3 * c + 2]};
+      if (!sameLayout) {
+        // Cell centre in the other grid's coordinates.
+        const Vec3 centre = origin_ + Vec3(base[0] + 0.5, base[1] + 0.5, base[2] + 0.5) * cellSize_;
+        other.cellOf(centre, base);
+      }
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int32_t x = base[0] + dx, y = base[1] + dy, z = base[2] + dz;
+            if (x < 0 || y < 0 || z < 0) continue;
+            const int64_t oc = other.findCell(mortonKey(x, y, z));
+            if (oc < 0) continue;
+            ranges[nr][0] = other.cellStart_[oc];
+            ranges[nr][1] = other.cellStart_[oc + 1];
+            ++nr;
+          }
+      for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
+        const uint32_t i = sorted_[p];
+        const Vec3 xi = points[i];
+        const size_t before = buf.size();
+        for (int r = 0; r < nr; ++r) {
+          for (uint32_t q = ranges[r][0]; q < ranges[r][1]; ++q) {
+            const uint32_t j = other.sorted_[q];
+            if (excludeSelf && j == i) continue;
+            const Vec3 d = xi - otherPoints[j];
+            if (lengthSquared(d) < r2max) buf.push_back(j);
+          }
+        }
+        counts[i] = uint32_t(buf.size() - before);
+      }
+    }
+  });
+
+  out.offsets.resize(nPoints + 1);
+  out.offsets[0] = 0;
+  for (size_t i = 0; i < nPoints; ++i) out.offsets[i + 1] = out.offsets[i] + counts[i];
+  out.indices.resize(out.offsets[nPoints]);
+
+  tbb::parallel_for(size_t(0), nBlocks, [&](size_t b) {
+    const std::vector<uint32_t>& buf = blockIndices[b];
+    const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
+    size_t k = 0;
+    for (size_t c = c0; c < c1; ++c)
+      for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
+        const uint32_t i = sorted_[p];
+        std::copy_n(buf.begin() + k, counts[i], out.indices.begin() + out.offsets[i]);
+        k += counts[i];
+      }
+  });
+}
+
+}  // namespace mf

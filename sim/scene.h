@@ -1,0 +1,106 @@
+// A scene as plain values: what the scene file says, validated, with units in SI.
+// Parsing and error reporting live in scene_file.h; nothing here knows about TOML.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "vec3.h"
+
+namespace mf {
+
+/// One fluid (phase) of the scene: the per-particle parameters of Mueller et al. 2005, Table 1.
+struct PhaseSpec {
+  std::string name;
+  Real restDensity = 1000;   // rho0, kg/m^3
+  Real stiffness = 1000;     // k in P = k (rho - rho0), m^2/s^2 (speed of sound c = sqrt(k))
+  Real viscosity = 0;        // mu, Pa s, mixed pairwise as (mu_i + mu_j) / 2 (eq. 9)
+  Real particleMass = 0;     // kg; 0: chosen so that a particle on the seeding lattice has rho0
+};
+
+/// A container or obstacle, sampled as boundary particles (Akinci et al. 2012).
+struct SolidSpec {
+  enum class Shape { Box, Cylinder, Revolution };
+  std::string name;
+  Shape shape = Shape::Box;
+  // Box: fluid inside [min, max]; `openTop` leaves out the +y face.
+  Vec3 min, max;
+  bool openTop = false;
+  // Cylinder (a glass): axis +y from `base` (centre of the bottom), fluid inside.
+  // Revolution (a lamp vessel): closed surface with radius profile r(y) about the +y axis
+  // through `base`; profile points are (height above base, radius), heights increasing.
+  Vec3 base;
+  Real radius = 0, height = 0;
+  std::vector<std::pair<Real, Real>> profile;
+};
+
+/// Initial fluid: a box or a sphere of particles on a cubic lattice.
+struct FluidBlockSpec {
+  enum class Shape { Box, Sphere };
+  Shape shape = Shape::Box;
+  Vec3 min, max;             // box
+  Vec3 centre;               // sphere
+  Real radius = 0;           // sphere
+  Vec3 velocity;             // initial velocity, m/s
+  // One phase, or a random mix: phases[k] drawn with probability fractions[k] (seeded).
+  std::vector<uint16_t> phases;
+  std::vector<Real> fractions;
+  uint64_t seed = 1;
+  Real jitter = 0;           // random displacement, fraction of the particle spacing
+};
+
+enum class DensityFormulation {
+  Mass,    // rho_i = sum_j m_j W_ij (Mueller et al. 2005, eq. 1)
+  Number,  // rho_i = m_i sum_j W_ij (Solenthaler & Pajarola 2008): sharp at density jumps
+};
+
+struct SolverSettings {
+  Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid
+  Real smoothingRatio = 2.0;        // h / spacing; 2 gives about 33 neighbours
+  DensityFormulation density = DensityFormulation::Mass;
+  bool clampNegativePressure = true;  // free surfaces: no tensile pressure
+  Real cfl = 0.4;                   // dt <= cfl h / (c_max + v_max)
+  Real forceFactor = 0.25;          // dt <= forceFactor sqrt(h / a_max)
+  Real maxDt = 1e-3, minDt = 1e-8;  // s
+  Real boundarySpacingRatio = 0.5;  // boundary sample spacing / particle spacing
+  int reorderInterval = 10;         // steps between memory re-sorts
+  // Watchdog (see Simulation::step): a step is retried with half the dt when any particle
+  // has a non-finite value, moves more than `maxMoveRatio` h in one step, or is compressed
+  // beyond `maxDensityError` (relative); after `maxRetries` halvings the run stops.
+  Real maxMoveRatio = 0.5;
+  Real maxDensityError = 0.5;
+  int maxRetries = 6;
+};
+
+/// Parameters of one enabled effect: numbers and vectors by key, with defaults filled in.
+struct EffectSpec {
+  std::string name;
+  std::map<std::string, std::vector<Real>> params;
+  Real number(const std::string& key) const { return params.at(key).at(0); }
+  Vec3 vector(const std::string& key) const {
+    const auto& v = params.at(key);
+    return {v.at(0), v.at(1), v.at(2)};
+  }
+};
+
+struct Scene {
+  std::string name;
+  std::string sourceFile;   // where it came from, for messages
+  std::string sourceText;   // the resolved TOML text (overrides applied), for copies and hashes
+  Real endTime = 1.0;       // s
+  Real frameRate = 30;      // frames per second
+  Vec3 domainMin, domainMax;  // particles leaving this box are removed and counted
+  SolverSettings solver;
+  std::vector<PhaseSpec> phases;
+  std::vector<SolidSpec> solids;
+  std::vector<FluidBlockSpec> fluids;
+  std::vector<EffectSpec> effects;
+
+  int lastFrame() const;  // frames 0 .. lastFrame() at t = f / frameRate
+  int phaseIndex(const std::string& name) const;  // -1 if absent
+  const EffectSpec* effect(const std::string& name) const;
+};
+
+}  // namespace mf

@@ -1,0 +1,477 @@
+#include "scene_file.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "effect.h"
+
+namespace mf {
+
+std::string SceneProblem::str() const {
+  const std::string where = line > 0 ? fmt::format("{}:{}", file, line) : fmt::format("{} (--set)", file);
+  return key.empty() ? fmt::format("{}: {}", where, message) : fmt::format("{}: key '{}': {}", where, key, message);
+}
+
+namespace {
+std::string joinProblems(const std::vector<SceneProblem>& ps) {
+  std::string s;
+  for (const auto& p : ps) s += (s.empty() ? "" : "\n") + p.str();
+  return s;
+}
+}  // namespace
+
+SceneError::SceneError(std::vector<SceneProblem> problems)
+    : std::runtime_error(joinProblems(problems)), problems_(std::move(problems)) {}
+
+uint64_t hashText(const std::string& text) {
+  uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+int Scene::lastFrame() const { return int(std::floor(endTime * frameRate + 1e-9)); }
+
+int Scene::phaseIndex(const std::string& n) const {
+  for (size_t i = 0; i < phases.size(); ++i)
+    if (phases[i].name == n) return int(i);
+  return -1;
+}
+
+const EffectSpec* Scene::effect(const std::string& n) const {
+  for (const auto& e : effects)
+    if (e.name == n) return &e;
+  return nullptr;
+}
+
+namespace {
+
+std::string rangeText(Real lo, Real hi, bool loOpen, const std::string& unit) {
+  auto num = [](Real v) { return std::fabs(v) >= 1e299 ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{:g}", v); };
+  return fmt::format("{}{}, {}]{}", loOpen ? "(" : "[", num(lo), num(hi), unit.empty() ? "" : " " + unit);
+}
+
+/// Collects problems while reading; knows where each value came from.
+class Reader {
+ public:
+  Reader(std::string file, std::set<std::string> overridden)
+      : file_(std::move(file)), overridden_(std::move(overridden)) {}
+
+  void problem(const toml::node* node, const std::string& key, const std::string& msg) {
+    int line = node ? int(node->source().begin.line) : 0;
+    if (overridden_.count(key)) line = 0;
+    problems.push_back({file_, line, key, msg});
+  }
+  void problemAt(int line, const std::string& key, const std::string& msg) {
+    problems.push_back({file_, overridden_.count(key) ? 0 : line, key, msg});
+  }
+
+  std::vector<SceneProblem> problems;
+
+ private:
+  std::string file_;
+  std::set<std::string> overridden_;
+};
+
+/// Reads the keys of one table; reports unknown keys when done.
+class TableReader {
+ public:
+  TableReader(Reader& r, const toml::table* t, std::string prefix) : r_(r), t_(t), prefix_(std::move(prefix)) {}
+  ~TableReader() {
+    if (!t_) return;
+    for (auto&& [k, v] : *t_)
+      if (!used_.count(std::string(k.str())))
+        r_.problem(&v, path(std::string(k.str())), "unknown key (misspelt?)");
+  }
+  std::string path(const std::string& key) const { return prefix_.empty() ? key : prefix_ + "." + key; }
+  int line() const { return t_ ? int(t_->source().begin.line) : 0; }
+  const toml::node* node(const std::string& key) {
+    used_.insert(key);
+    return t_ ? t_->get(key) : nullptr;
+  }
+  bool has(const std::string& key) const { return t_ && t_->contains(key); }
+
+  Real number(const std::string& key, Real def, Real lo, Real hi, const std::string& unit = "",
+              bool loOpen = false, bool required = false) {
+    const toml::node* n = node(key);
+    if (!n) {
+      if (required) r_.problemAt(line(), path(key), fmt::format("missing; a number in {}", rangeText(lo, hi, loOpen, unit)));
+      return def;
+    }
+    auto v = n->value<double>();
+    if (!v || n->is_boolean()) {
+      r_.problem(n, path(key), fmt::format("expected a number in {}", rangeText(lo, hi, loOpen, unit)));
+      return def;
+    }
+    if (!std::isfinite(*v) || *v > hi || *v < lo || (loOpen && *v == lo)) {
+      r_.problem(n, path(key), fmt::format("value {:g} outside the allowed range {}", *v, rangeText(lo, hi, loOpen, unit)));
+      return def;
+    }
+    return *v;
+  }
+
+  std::vector<Real> numbers(const std::string& key, size_t count, std::vector<Real> def, Real lo, Real hi,
+                            const std::string& unit = "", bool required = false) {
+    const toml::node* n = node(key);
+    const std::string what = count == 0 ? "an array of numbers" : fmt::format("an array of {} numbers", count);
+    if (!n) {
+      if (required) r_.problemAt(line(), path(key), fmt::format("missing; {} in {}", what, rangeText(lo, hi, false, unit)));
+      return def;
+    }
+    const toml::array* a = n->as_array();
+    if (!a || (count > 0 && a->size() != count) || a->empty()) {
+      r_.problem(n, path(key), fmt::format("expected {}", what));
+      return def;
+    }
+    std::vector<Real> out;
+    for (const toml::node& e : *a) {
+      auto v = e.value<double>();
+      if (!v || e.is_boolean() || !std::isfinite(*v) || *v < lo || *v > hi) {
+        r_.problem(&e, path(key), fmt::format("each component must be a number in {}", rangeText(lo, hi, false, unit)));
+        return def;
+      }
+      out.push_back(*v);
+    }
+    return out;
+  }
+
+  Vec3 vec3(const std::string& key, Vec3 def, Real lo = -1e6, Real hi = 1e6, const std::string& unit = "m",
+            bool required = false) {
+    auto v = numbers(key, 3, {def.x, def.y, def.z}, lo, hi, unit, required);
+    return {v[0], v[1], v[2]};
+  }
+
+  bool boolean(const std::string& key, bool def) {
+    const toml::node* n = node(key);
+    if (!n) return def;
+    if (!n->is_boolean()) {
+      r_.problem(n, path(key), "expected true or false");
+      return def;
+    }
+    return *n->value<bool>();
+  }
+
+  std::string text(const std::string& key, const std::string& def, const std::vector<std::string>& allowed = {},
+                   bool required = false) {
+    const toml::node* n = node(key);
+    std::string choices;
+    for (const auto& a : allowed) choices += (choices.empty() ? "" : ", ") + ("\"" + a + "\"");
+    if (!n) {
+      if (required) r_.problemAt(line(), path(key), allowed.empty() ? "missing; a string" : "missing; one of " + choices);
+      return def;
+    }
+    if (!n->is_string()) {
+      r_.problem(n, path(key), allowed.empty() ? "expected a string" : "expected one of " + choices);
+      return def;
+    }
+    std::string s = *n->value<std::string>();
+    if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end()) {
+      r_.problem(n, path(key), fmt::format("\"{}\" is not one of {}", s, choices));
+      return def;
+    }
+    return s;
+  }
+
+  const toml::table* table(const std::string& key) {
+    const toml::node* n = node(key);
+    if (n && !n->is_table()) r_.problem(n, path(key), "expected a table");
+    return n ? n->as_table() : nullptr;
+  }
+
+  /// Array of tables ([[key]]); reports a wrong type.
+  std::vector<const toml::table*> tables(const std::string& key) {
+    std::vector<const toml::table*> out;
+    const toml::node* n = node(key);
+    if (!n) return out;
+    const toml::array* a = n->as_array();
+    if (!a) {
+      r_.problem(n, path(key), fmt::format("expected an array of tables ([[{}]])", key));
+      return out;
+    }
+    for (const toml::node& e : *a) {
+      if (!e.is_table()) r_.problem(&e, path(key), fmt::format("expected an array of tables ([[{}]])", key));
+      else out.push_back(e.as_table());
+    }
+    return out;
+  }
+
+ private:
+  Reader& r_;
+  const toml::table* t_;
+  std::string prefix_;
+  std::set<std::string> used_;
+};
+
+// --set key=value: walks tables; [[phase]] etc. are addressed by index or by their "name".
+void applyOverride(toml::table& root, const std::string& assignment, const std::string& file,
+                   std::vector<SceneProblem>& problems, std::set<std::string>& overridden) {
+  const size_t eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    problems.push_back({file, 0, assignment, "override must look like key=value, e.g. solver.cfl=0.3"});
+    return;
+  }
+  const std::string key = assignment.substr(0, eq);
+  toml::table parsedValue;
+  try {
+    parsedValue = toml::parse("v = " + assignment.substr(eq + 1));
+  } catch (const toml::parse_error&) {
+    // Bare words are strings: --set solver.density_formulation=number
+    parsedValue = toml::table{{"v", assignment.substr(eq + 1)}};
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string s; std::getline(ss, s, '.');) parts.push_back(s);
+  toml::table* t = &root;
+  std::string canonical;
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = t->get(parts[i]);
+    canonical += (canonical.empty() ? "" : ".") + parts[i];
+    if (n && n->is_array_of_tables() && i + 2 < parts.size() + 1) {
+      toml::array& arr = *n->as_array();
+      const std::string& sel = parts[++i];
+      toml::table* found = nullptr;
+      for (size_t k = 0; k < arr.size(); ++k) {
+        toml::table* e = arr[k].as_table();
+        if (std::to_string(k) == sel || (e->contains("name") && e->get("name")->value<std::string>() == sel)) {
+          found = e;
+          canonical += fmt::format("[{}]", k);
+        }
+      }
+      if (!found) {
+        problems.push_back({file, 0, key, fmt::format("no [[{}]] entry with index or name '{}'", parts[i - 1], sel)});
+        return;
+      }
+      t = found;
+      continue;
+    }
+    if (!n) n = t->insert_or_assign(parts[i], toml::table{}).first->second.as_table();
+    if (!n->is_table()) {
+      problems.push_back({file, 0, key, fmt::format("'{}' is not a table", parts[i])});
+      return;
+    }
+    t = n->as_table();
+  }
+  t->insert_or_assign(parts.back(), *parsedValue.get("v"));
+  overridden.insert(canonical.empty() ? parts.back() : canonical + "." + parts.back());
+}
+
+void readSolver(TableReader& s, SolverSettings& o) {
+  o.particleSpacing = s.number("particle_spacing", 0.01, 1e-5, 10, "m", true, true);
+  o.smoothingRatio = s.number("smoothing_ratio", 2.0, 1.2, 4.0);
+  o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number
+                                                                                    : DensityFormulation::Mass;
+  o.clampNegativePressure = s.boolean("clamp_negative_pressure", true);
+  o.cfl = s.number("cfl", 0.4, 0, 10, "", true);
+  o.forceFactor = s.number("force_factor", 0.25, 0, 10, "", true);
+  o.maxDt = s.number("max_dt", 1e-3, 1e-9, 1, "s", true);
+  o.minDt = s.number("min_dt", 1e-8, 1e-14, 1, "s", true);
+  o.boundarySpacingRatio = s.number("boundary_spacing_ratio", 0.5, 0.2, 1.5);
+  o.reorderInterval = int(s.number("reorder_interval", 10, 1, 1000));
+  o.maxMoveRatio = s.number("max_move_ratio", 0.5, 0, 4, "", true);
+  o.maxDensityError = s.number("max_density_error", 0.5, 0, 100, "", true);
+  o.maxRetries = int(s.number("max_retries", 6, 0, 40));
+}
+
+}  // namespace
+
+Scene parseScene(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, sourceName);
+  } catch (const toml::parse_error& e) {
+    throw SceneError({{sourceName, int(e.source().begin.line), "", std::string(e.description())}});
+  }
+  std::vector<SceneProblem> overrideProblems;
+  std::set<std::string> overridden;
+  for (const std::string& o : overrides) applyOverride(root, o, sourceName, overrideProblems, overridden);
+  if (!overrideProblems.empty()) throw SceneError(overrideProblems);
+
+  Scene sc;
+  sc.sourceFile = sourceName;
+  {
+    std::ostringstream os;
+    os << root;
+    sc.sourceText = os.str();
+  }
+  Reader r(sourceName, overridden);
+  {
+    TableReader top(r, &root, "");
+    TableReader scene(r, top.table("scene"), "scene");
+    if (!top.has("scene")) r.problemAt(1, "scene", "missing [scene] table (name, end_time, frame_rate, domain_min, domain_max)");
+    sc.name = scene.text("name", "unnamed");
+    sc.endTime = scene.number("end_time", 1.0, 0, 1e6, "s", true);
+    sc.frameRate = scene.number("frame_rate", 30, 0, 1e4, "frames/s", true);
+    sc.domainMin = scene.vec3("domain_min", {}, -1e6, 1e6, "m", true);
+    sc.domainMax = scene.vec3("domain_max", {}, -1e6, 1e6, "m", true);
+    for (int a = 0; a < 3; ++a)
+      if (!(sc.domainMin[a] < sc.domainMax[a]))
+        r.problem(scene.node("domain_max"), "scene.domain_max", "must be greater than scene.domain_min in every component");
+
+    TableReader solver(r, top.table("solver"), "solver");
+    if (!top.has("solver")) r.problemAt(1, "solver", "missing [solver] table (at least particle_spacing)");
+    readSolver(solver, sc.solver);
+    if (sc.solver.minDt > sc.solver.maxDt) r.problem(solver.node("min_dt"), "solver.min_dt", "must not exceed solver.max_dt");
+
+    const auto phaseTables = top.tables("phase");
+    if (phaseTables.empty()) r.problemAt(1, "phase", "at least one [[phase]] is required");
+    if (phaseTables.size() > 65535) r.problemAt(1, "phase", "at most 65535 phases");
+    for (size_t k = 0; k < phaseTables.size(); ++k) {
+      TableReader t(r, phaseTables[k], fmt::format("phase[{}]", k));
+      PhaseSpec p;
+      p.name = t.text("name", fmt::format("phase{}", k), {}, true);
+      p.restDensity = t.number("rest_density", 1000, 1e-3, 1e6, "kg/m^3", false, true);
+      p.stiffness = t.number("stiffness", 1000, 0, 1e10, "m^2/s^2", true, true);
+      p.viscosity = t.number("viscosity", 0, 0, 1e7, "Pa s");
+      p.particleMass = t.number("particle_mass", 0, 0, 1e6, "kg (0 = from rest density and spacing)");
+      if (sc.phaseIndex(p.name) >= 0) r.problemAt(t.line(), t.path("name"), fmt::format("duplicate phase name \"{}\"", p.name));
+      sc.phases.push_back(p);
+    }
+
+    const auto solidTables = top.tables("solid");
+    for (size_t k = 0; k < solidTables.size(); ++k) {
+      TableReader t(r, solidTables[k], fmt::format("solid[{}]", k));
+      SolidSpec s;
+      s.name = t.text("name", fmt::format("solid{}", k));
+      const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
+      s.openTop = t.boolean("open_top", false);
+      if (shape == "box") {
+        s.shape = SolidSpec::Shape::Box;
+        s.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
+        s.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
+        for (int a = 0; a < 3; ++a)
+          if (!(s.min[a] < s.max[a])) {
+            r.problem(t.node("max"), t.path("max"), "must be greater than min in every component");
+            break;
+          }
+      } else if (shape == "cylinder") {
+        s.shape = SolidSpec::Shape::Cylinder;
+        s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+        s.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+        s.height = t.number("height", 1, 0, 1e6, "m", true, true);
+      } else {
+        s.shape = SolidSpec::Shape::Revolution;
+        s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+        const toml::node* pn = t.node("profile");
+        const toml::array* pa = pn ? pn->as_array() : nullptr;
+        bool ok = pa && pa->size() >= 2;
+        if (ok)
+          for (const toml::node& e : *pa) {
+            const toml::array* pt = e.as_array();
+            if (!pt || pt->size() != 2 || !pt->get(0)->value<double>() || !pt->get(1)->value<double>()) {
+              ok = false;
+              break;
+            }
+            s.profile.push_back({*pt->get(0)->value<double>(), *pt->get(1)->value<double>()});
+          }
+        for (size_t i = 0; ok && i < s.profile.size(); ++i)
+          ok = s.profile[i].second >= 0 && (i == 0 || s.profile[i].first > s.profile[i - 1].first);
+        if (!ok) {
+          if (pn) r.problem(pn, t.path("profile"), "expected at least 2 points [height, radius] with increasing heights and radii >= 0 (m)");
+          else r.problemAt(t.line(), t.path("profile"), "missing; at least 2 points [height, radius] (m)");
+          s.profile = {{0, 1}, {1, 1}};
+        }
+      }
+      sc.solids.push_back(s);
+    }
+
+    const auto fluidTables = top.tables("fluid");
+    if (fluidTables.empty()) r.problemAt(1, "fluid", "at least one [[fluid]] block is required");
+    for (size_t k = 0; k < fluidTables.size(); ++k) {
+      TableReader t(r, fluidTables[k], fmt::format("fluid[{}]", k));
+      FluidBlockSpec f;
+      const std::string shape = t.text("shape", "box", {"box", "sphere"});
+      if (shape == "box") {
+        f.shape = FluidBlockSpec::Shape::Box;
+        f.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
+        f.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
+        for (int a = 0; a < 3; ++a)
+          if (!(f.min[a] < f.max[a])) {
+            r.problem(t.node("max"), t.path("max"), "must be greater than min in every component");
+            break;
+          }
+      } else {
+        f.shape = FluidBlockSpec::Shape::Sphere;
+        f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);
+        f.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+      }
+      f.velocity = t.vec3("velocity", {}, -1e4, 1e4, "m/s");
+      f.seed = uint64_t(t.number("seed", 1, 0, 9.0e15));
+      f.jitter = t.number("jitter", 0, 0, 0.5, "of the particle spacing");
+      std::vector<std::string> names;
+      if (t.has("phase")) {
+        names.push_back(t.text("phase", ""));
+        f.fractions = {1.0};
+      } else if (t.has("phases")) {
+        const toml::node* pn = t.node("phases");
+        const toml::array* pa = pn->as_array();
+        if (!pa || pa->empty()) r.problem(pn, t.path("phases"), "expected an array of phase names");
+        else
+          for (const toml::node& e : *pa) names.push_back(e.value<std::string>().value_or(""));
+        f.fractions = t.numbers("fractions", names.size(), std::vector<Real>(names.size(), 1.0), 0, 1);
+      } else {
+        r.problemAt(t.line(), t.path("phase"), "missing; the name of a [[phase]] (or phases = [...] with fractions)");
+      }
+      for (const std::string& n : names) {
+        const int pi = sc.phaseIndex(n);
+        if (pi < 0) {
+          std::string known;
+          for (const auto& p : sc.phases) known += (known.empty() ? "\"" : ", \"") + p.name + "\"";
+          r.problem(t.node(t.has("phase") ? "phase" : "phases"), t.path(t.has("phase") ? "phase" : "phases"),
+                    fmt::format("unknown phase \"{}\"; defined: {}", n, known));
+        } else {
+          f.phases.push_back(uint16_t(pi));
+        }
+      }
+      sc.fluids.push_back(f);
+    }
+
+    // Effects: a table per enabled effect, [effects.NAME], with that effect's own keys.
+    const toml::table* et = top.table("effects");
+    if (et) {
+      TableReader effectsReader(r, et, "effects");
+      for (const EffectInfo& info : effectRegistry()) {
+        if (!et->contains(info.name)) continue;
+        TableReader t(r, effectsReader.table(info.name), "effects." + info.name);
+        if (!t.boolean("enabled", true)) continue;
+        EffectSpec spec;
+        spec.name = info.name;
+        for (const EffectParam& p : info.params) {
+          if (p.components == 1) spec.params[p.key] = {t.number(p.key, p.defaults.at(0), p.lo, p.hi, p.unit)};
+          else spec.params[p.key] = t.numbers(p.key, size_t(p.components), p.defaults, p.lo, p.hi, p.unit);
+        }
+        sc.effects.push_back(spec);
+      }
+      for (auto&& [k, v] : *et)
+        if (!findEffect(std::string(k.str()))) {
+          std::string known;
+          for (const EffectInfo& info : effectRegistry()) known += (known.empty() ? "" : ", ") + info.name;
+          effectsReader.node(std::string(k.str()));  // reported here, not again as unknown key
+          r.problem(&v, "effects." + std::string(k.str()), fmt::format("unknown effect; known effects: {}", known));
+        }
+    }
+  }
+  if (!r.problems.empty()) throw SceneError(r.problems);
+  return sc;
+}
+
+Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides) {
+  std::ifstream in(pathOrName, std::ios::binary);
+  if (!in) {
+    if (const char* text = embeddedSceneText(pathOrName)) return parseScene(text, "<embedded:" + pathOrName + ">", overrides);
+    std::string names;
+    for (const auto& n : embeddedSceneNames()) names += (names.empty() ? "" : ", ") + n;
+    throw SceneError({{pathOrName, 0, "", fmt::format("cannot open scene file (embedded scenes: {})", names)}});
+  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parseScene(ss.str(), pathOrName, overrides);
+}
+
+}  // namespace mf

@@ -1,0 +1,47 @@
+// Scene files (TOML) to validated Scene values. Every problem is reported with the file, the
+// line, the key and the allowed range; all problems of a file are collected, not just the first.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene.h"
+
+namespace mf {
+
+struct SceneProblem {
+  std::string file;
+  int line = 0;      // 0: the value came from a command-line override
+  std::string key;   // dotted path, e.g. "solver.cfl" or "phase[1].stiffness"
+  std::string message;
+  std::string str() const;  // "file:line: key 'k': message"
+};
+
+class SceneError : public std::runtime_error {
+ public:
+  explicit SceneError(std::vector<SceneProblem> problems);
+  const std::vector<SceneProblem>& problems() const { return problems_; }
+
+ private:
+  std::vector<SceneProblem> problems_;
+};
+
+/// Parses scene text. `overrides` are "dotted.key=toml-value" strings (like --set) applied
+/// before validation; [[phase]] entries can be addressed by name: "phase.water.stiffness=1e4".
+/// Throws SceneError listing every problem.
+Scene parseScene(const std::string& text, const std::string& sourceName,
+                 const std::vector<std::string>& overrides = {});
+
+/// Reads a file, or an embedded scene when `pathOrName` names one and no such file exists.
+Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides = {});
+
+/// Names of the scenes compiled into the program (configs/*.toml at build time).
+std::vector<std::string> embeddedSceneNames();
+/// The text of an embedded scene, or nullptr.
+const char* embeddedSceneText(const std::string& name);
+
+/// Stable 64-bit hash of a string (FNV-1a), for scene identity in checkpoints.
+uint64_t hashText(const std::string& text);
+
+}  // namespace mf

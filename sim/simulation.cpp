@@ -1,0 +1,441 @@
+#include "simulation.h"
+
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+
+#include "scene_file.h"
+#include "solids.h"
+
+namespace mf {
+
+namespace {
+
+// splitmix64: small, fast, and the same on every platform; seeded per particle so that
+// seeding does not depend on iteration order.
+uint64_t splitmix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 9007199254740992.0); }
+
+constexpr size_t kGrain = 1024;
+
+template <class F>
+Real parallelMax(size_t n, F&& value) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, kGrain), Real(0),
+      [&](const tbb::blocked_range<size_t>& r, Real m) {
+        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, value(i));
+        return m;
+      },
+      [](Real a, Real b) { return std::max(a, b); });
+}
+
+}  // namespace
+
+Real latticeKernelSum(const SphKernels& K, Real s) {
+  const int n = int(std::ceil(K.h / s)) + 1;
+  Real sum = 0;
+  for (int k = -n; k <= n; ++k)
+    for (int j = -n; j <= n; ++j)
+      for (int i = -n; i <= n; ++i) sum += K.poly6Checked(s * s * Real(i * i + j * j + k * k));
+  return sum;
+}
+
+Simulation::Simulation(const Scene& scene) : scene_(scene) {
+  const SolverSettings& st = scene_.solver;
+  kernels_ = SphKernels(st.particleSpacing * st.smoothingRatio);
+
+  std::vector<Vec3> wall = sampleSolidSurfaces(scene_.solids, st.particleSpacing * st.boundarySpacingRatio);
+  Vec3 lo = scene_.domainMin;
+  for (const Vec3& p : wall) lo = cwiseMin(lo, p);
+  gridOrigin_ = lo - Vec3(kernels_.h, kernels_.h, kernels_.h);
+  boundary_ = makeBoundarySamples(std::move(wall), kernels_, gridOrigin_);
+  if (boundary_.size() > 0) boundaryGrid_.build(boundary_.position.data(), boundary_.size(), gridOrigin_, kernels_.h);
+
+  AttributeMask attributes = 0;
+  for (const EffectSpec& spec : scene_.effects) {
+    const EffectInfo* info = findEffect(spec.name);
+    if (!info) throw std::invalid_argument("unknown effect " + spec.name);
+    effects_.push_back(info->create(spec, scene_));
+  }
+  // Keep the registry's order, whatever the order in the file (fixed order = same rounding).
+  std::stable_sort(effects_.begin(), effects_.end(), [](const auto& a, const auto& b) {
+    auto rank = [](const char* n) {
+      const auto& reg = effectRegistry();
+      for (size_t i = 0; i < reg.size(); ++i)
+        if (reg[i].name == n) return i;
+      return reg.size();
+    };
+    return rank(a->name()) < rank(b->name());
+  });
+  for (const auto& e : effects_) attributes |= e->requiredAttributes();
+  ps_.enable(attributes);
+
+  seedFluid();
+  refresh();
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+
+void Simulation::seedFluid() {
+  const Real s = scene_.solver.particleSpacing;
+  const Real latticeSum = latticeKernelSum(kernels_, s);
+  std::vector<ParticleInit> candidates;
+  for (size_t b = 0; b < scene_.fluids.size(); ++b) {
+    const FluidBlockSpec& f = scene_.fluids[b];
+    Vec3 lo = f.min, hi = f.max;
+    if (f.shape == FluidBlockSpec::Shape::Sphere) {
+      lo = f.centre - Vec3(f.radius, f.radius, f.radius);
+      hi = f.centre + Vec3(f.radius, f.radius, f.radius);
+    }
+    int n[3];
+    for (int a = 0; a < 3; ++a) n[a] = std::max(0, int(std::floor((hi[a] - lo[a]) / s + 1e-9)));
+    // Centre the lattice in the block so that it sits half a spacing from each face.
+    Vec3 start;
+    for (int a = 0; a < 3; ++a) start[a] = lo[a] + 0.5 * ((hi[a] - lo[a]) - (n[a] - 1) * s);
+    Real cumulative = 0;
+    std::vector<Real> cdf;
+    for (Real w : f.fractions) cdf.push_back(cumulative += w);
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          const uint64_t latticeIndex = (uint64_t(b) << 48) ^ (uint64_t(k) << 32) ^ (uint64_t(j) << 16) ^ uint64_t(i);
+          const uint64_t rngBase = splitmix(f.seed * 0x100000001b3ULL ^ latticeIndex);
+          Vec3 x = start + Vec3(i * s, j * s, k * s);
+          if (f.jitter > 0)
+            x += Vec3(uniform01(rngBase + 1) - 0.5, uniform01(rngBase + 2) - 0.5, uniform01(rngBase + 3) - 0.5) *
+                 (2 * f.jitter * s);
+          if (f.shape == FluidBlockSpec::Shape::Sphere && lengthSquared(x - f.centre) > f.radius * f.radius) continue;
+          size_t pick = 0;
+          if (f.phases.size() > 1) {
+            const Real u = uniform01(rngBase) * cumulative;
+            while (pick + 1 < f.phases.size() && u >= cdf[pick]) ++pick;
+          }
+          const PhaseSpec& ph = scene_.phases[f.phases[pick]];
+          ParticleInit p;
+          p.phase = f.phases[pick];
+          p.position = x;
+          p.velocity = f.velocity;
+          p.restDensity = ph.restDensity;
+          p.mass = ph.particleMass > 0 ? ph.particleMass : ph.restDensity / latticeSum;
+          p.viscosity = ph.viscosity;
+          p.stiffness = ph.stiffness;
+          candidates.push_back(p);
+        }
+  }
+  // Leave out lattice points outside the domain or within half a spacing of a wall sample.
+  std::vector<Vec3> cx(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) cx[i] = candidates[i].position;
+  std::vector<uint8_t> keep(candidates.size(), 1);
+  if (boundary_.size() > 0 && !cx.empty()) {
+    CellGrid g;
+    g.build(cx.data(), cx.size(), gridOrigin_, kernels_.h);
+    NeighborLists nl;
+    g.findNeighbors(cx.data(), boundaryGrid_, boundary_.position.data(), 0.5 * s, false, nl);
+    for (size_t i = 0; i < cx.size(); ++i) keep[i] = nl.count(i) == 0;
+  }
+  ps_.reserve(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const Vec3& x = cx[i];
+    bool inDomain = true;
+    for (int a = 0; a < 3; ++a) inDomain &= x[a] >= scene_.domainMin[a] && x[a] <= scene_.domainMax[a];
+    if (keep[i] && inDomain) ps_.append(nextId_++, candidates[i]);
+  }
+}
+
+StepContext Simulation::context() const {
+  return {kernels_, fluidNeighbors_, boundaryNeighbors_, boundary_, time_};
+}
+
+void Simulation::refresh() { searchAndDensity(); }
+
+void Simulation::searchAndDensity() {
+  const size_t n = ps_.size();
+  fluidGrid_.build(ps_.position.data(), n, gridOrigin_, kernels_.h);
+  fluidGrid_.findNeighbors(ps_.position.data(), fluidGrid_, ps_.position.data(), kernels_.h, true, fluidNeighbors_);
+  if (boundary_.size() > 0) {
+    fluidGrid_.findNeighbors(ps_.position.data(), boundaryGrid_, boundary_.position.data(), kernels_.h, false,
+                             boundaryNeighbors_);
+  } else {
+    boundaryNeighbors_.offsets.assign(n + 1, 0);
+    boundaryNeighbors_.indices.clear();
+  }
+  const bool numberDensity = scene_.solver.density == DensityFormulation::Number;
+  const SphKernels& K = kernels_;
+  const Real w0 = K.poly6(0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Vec3 xi = ps_.position[i];
+      Real fluidSum = 0;  // sum_j m_j W_ij, or sum_j W_ij for number density
+      for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
+        const uint32_t j = fluidNeighbors_.indices[k];
+        const Real w = K.poly6(lengthSquared(xi - ps_.position[j]));
+        fluidSum += numberDensity ? w : ps_.mass[j] * w;
+      }
+      Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
+      for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
+        const uint32_t b = boundaryNeighbors_.indices[k];
+        wallSum += boundary_.volume[b] * K.poly6(lengthSquared(xi - boundary_.position[b]));
+      }
+      const Real mi = ps_.mass[i], rho0 = ps_.restDensity[i];
+      if (numberDensity) {
+        const Real delta = fluidSum + w0 + wallSum * rho0 / mi;
+        ps_.density[i] = mi * delta;
+        ps_.volume[i] = 1.0 / delta;
+      } else {
+        ps_.density[i] = fluidSum + mi * w0 + rho0 * wallSum;
+        ps_.volume[i] = mi / ps_.density[i];
+      }
+    }
+  });
+}
+
+void Simulation::computePressure() {
+  const bool clamp = scene_.solver.clampNegativePressure;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Real p = ps_.stiffness[i] * (ps_.density[i] - ps_.restDensity[i]);  // P = k (rho - rho0)
+      ps_.pressure[i] = clamp && p < 0 ? 0 : p;
+    }
+  });
+}
+
+void Simulation::accumulateForces() {
+  std::fill(ps_.force.begin(), ps_.force.end(), Vec3{});
+  const StepContext ctx = context();
+  for (const auto& e : effects_) e->accumulateForces(ctx, ps_);
+}
+
+Real Simulation::chooseDt() const {
+  const SolverSettings& st = scene_.solver;
+  const size_t n = ps_.size();
+  const Real vmax = std::sqrt(parallelMax(n, [&](size_t i) { return lengthSquared(ps_.velocity[i]); }));
+  const Real kmax = parallelMax(n, [&](size_t i) { return ps_.stiffness[i]; });
+  const Real amax = std::sqrt(parallelMax(n, [&](size_t i) {
+    return lengthSquared(ps_.force[i]) / (ps_.mass[i] * ps_.mass[i]);
+  }));
+  Real dt = st.maxDt;
+  const Real speed = std::sqrt(kmax) + vmax;
+  if (speed > 0) dt = std::min(dt, st.cfl * kernels_.h / speed);
+  if (amax > 0) dt = std::min(dt, st.forceFactor * std::sqrt(kernels_.h / amax));
+  const StepContext ctx = context();
+  for (const auto& e : effects_) dt = std::min(dt, e->maxTimeStep(ctx, ps_));
+  return std::max(dt, st.minDt);
+}
+
+void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
+  // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), x(t+dt) = x + dt v(t+dt).
+  std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    uint64_t clamps = 0;
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Vec3 v = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
+      Vec3 x = x0[i] + v * dt;
+      // A container is never crossed: a particle that was inside and would end outside is
+      // put back on the wall (only matters when the wall forces lost to a violent step).
+      for (const SolidSpec& s : scene_.solids)
+        if (insideFluidRegion(s, x0[i]) && !insideFluidRegion(s, x)) clamps += clampToFluidRegion(s, x, v);
+      ps_.velocity[i] = v;
+      ps_.position[i] = x;
+    }
+    clampsPerBlock[r.begin() / kGrain] += clamps;
+  });
+  for (uint64_t c : clampsPerBlock) counters_.wallClamps += c;
+}
+
+int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& parameter) const {
+  const Real maxMove = scene_.solver.maxMoveRatio * kernels_.h;
+  const Real maxErr = scene_.solver.maxDensityError;
+  auto rule = [&](size_t i) -> int {
+    if (!isFinite(ps_.position[i]) || !isFinite(ps_.velocity[i]) || !std::isfinite(ps_.density[i])) return 1;
+    if (length(ps_.velocity[i]) * dt > maxMove) return 2;
+    if ((ps_.density[i] - ps_.restDensity[i]) > maxErr * ps_.restDensity[i]) return 3;
+    return 0;
+  };
+  const int64_t none = std::numeric_limits<int64_t>::max();
+  const int64_t first = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, ps_.size(), kGrain), none,
+      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
+        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
+          if (rule(i)) return int64_t(i);
+        return best;
+      },
+      [](int64_t a, int64_t b) { return std::min(a, b); });
+  if (first == none) return -1;
+  const size_t i = size_t(first);
+  const PhaseSpec& ph = scene_.phases[ps_.phase[i]];
+  switch (rule(i)) {
+    case 1:
+      why = fmt::format("non-finite state (x = ({}, {}, {}), v = ({}, {}, {}), rho = {})", ps_.position[i].x,
+                        ps_.position[i].y, ps_.position[i].z, ps_.velocity[i].x, ps_.velocity[i].y,
+                        ps_.velocity[i].z, ps_.density[i]);
+      parameter = "solver.max_dt or solver.cfl (a NaN that survives smaller steps comes from the inputs: check the scene's values)";
+      break;
+    case 2:
+      why = fmt::format("moved {:.3g} h in one step (|v| = {:.4g} m/s, limit {} h)", length(ps_.velocity[i]) * dt / kernels_.h,
+                        length(ps_.velocity[i]), scene_.solver.maxMoveRatio);
+      parameter = fmt::format("solver.cfl (now {}) or the stiffness of phase \"{}\" (k = {})", scene_.solver.cfl, ph.name, ph.stiffness);
+      break;
+    default:
+      why = fmt::format("compressed by {:.1f}% (rho = {:.6g}, rho0 = {:.6g}, limit {:.0f}%)",
+                        100 * (ps_.density[i] / ps_.restDensity[i] - 1), ps_.density[i], ps_.restDensity[i], 100 * maxErr);
+      parameter = fmt::format("the stiffness of phase \"{}\" (k = {}, too soft for this flow) or solver.cfl", ph.name, ph.stiffness);
+  }
+  return first;
+}
+
+void Simulation::removeOutOfDomain() {
+  const size_t n = ps_.size();
+  std::vector<uint8_t> out(n, 0);
+  bool any = false;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3& x = ps_.position[i];
+    for (int a = 0; a < 3; ++a)
+      if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) out[i] = 1;
+    any |= out[i] != 0;
+  }
+  if (!any) return;
+  counters_.removedOutOfDomain += ps_.removeFlagged(out);
+  searchAndDensity();
+}
+
+Real Simulation::step(Real maxDt) {
+  const SolverSettings& st = scene_.solver;
+  if (counters_.steps > 0 && counters_.steps % uint64_t(st.reorderInterval) == 0) {
+    // Memory order follows the grid's Z-order, so neighbours stay close in the caches.
+    const std::vector<uint32_t> order = fluidGrid_.sortedIndices();
+    ps_.permute(order);
+    searchAndDensity();
+  }
+  computePressure();
+  accumulateForces();
+  Real dt = std::min(chooseDt(), maxDt);
+
+  savedPosition_ = ps_.position;
+  savedVelocity_ = ps_.velocity;
+  for (int attempt = 0;; ++attempt) {
+    integrate(dt, savedPosition_, savedVelocity_);
+    searchAndDensity();
+    std::string why, parameter;
+    const int64_t bad = findInvalidParticle(dt, why, parameter);
+    if (bad < 0) break;
+    const uint64_t badId = ps_.id[bad];
+    const std::string phaseName = scene_.phases[ps_.phase[bad]].name;
+    ps_.position = savedPosition_;
+    ps_.velocity = savedVelocity_;
+    searchAndDensity();
+    if (attempt >= st.maxRetries || dt * 0.5 < st.minDt) {
+      throw NumericalInstability(fmt::format(
+          "simulation unstable at step {} (t = {:.6g} s, dt = {:.3g} s after {} retries): particle id {} of phase \"{}\" {}. "
+          "Parameter most likely at fault: {}.",
+          counters_.steps, time_, dt, attempt, badId, phaseName, why, parameter));
+    }
+    dt *= 0.5;
+    ++counters_.retries;
+  }
+  time_ += dt;
+  ++counters_.steps;
+  counters_.lastDt = dt;
+  counters_.maxDensityError = std::max(counters_.maxDensityError, parallelMax(ps_.size(), [&](size_t i) {
+    return ps_.density[i] / ps_.restDensity[i] - 1;
+  }));
+  removeOutOfDomain();
+  return dt;
+}
+
+void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>& afterStep) {
+  while (time_ < t) {
+    const Real remaining = t - time_;
+    if (remaining <= 1e-12 * std::max(Real(1), t)) break;
+    // Even out the last sub-steps so that none is a sliver: if two steps of the largest
+    // allowed size would overshoot, take half the remainder.
+    const Real limit = std::min(scene_.solver.maxDt, remaining);
+    const Real dtTaken = step(remaining <= limit ? remaining : (remaining < 2 * limit ? 0.5 * remaining : limit));
+    (void)dtTaken;
+    if (afterStep) afterStep(*this);
+  }
+  time_ = t;
+}
+
+// ---- checkpoints ---------------------------------------------------------------------------
+
+namespace {
+constexpr char kMagic[8] = {'M', 'F', 'C', 'K', 'P', 'T', '0', '1'};
+
+template <class T>
+void put(std::ostream& o, const T& v) {
+  o.write(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+template <class T>
+T get(std::istream& in) {
+  T v{};
+  in.read(reinterpret_cast<char*>(&v), sizeof(T));
+  return v;
+}
+}  // namespace
+
+void Simulation::saveCheckpoint(const std::string& path, int frame) const {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
+    if (!o) throw std::runtime_error("cannot write checkpoint " + tmp);
+    o.write(kMagic, 8);
+    put(o, hashText(scene_.sourceText));
+    put(o, int32_t(frame));
+    put(o, time_);
+    put(o, nextId_);
+    put(o, counters_);
+    put(o, ps_.attributes);
+    put(o, uint64_t(ps_.size()));
+    const_cast<ParticleSet&>(ps_).forEachArray([&](const char* name, const auto& v) {
+      put(o, uint32_t(std::strlen(name)));
+      o.write(name, std::streamsize(std::strlen(name)));
+      put(o, uint32_t(sizeof(v[0])));
+      o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(v[0])));
+    });
+    o.write(kMagic, 8);  // trailer: a truncated file is detected
+    if (!o) throw std::runtime_error("error writing checkpoint " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp + " to " + path);
+}
+
+int Simulation::loadCheckpoint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char magic[8];
+  if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
+    throw std::runtime_error(path + ": not a multifluid checkpoint");
+  if (get<uint64_t>(in) != hashText(scene_.sourceText))
+    throw std::runtime_error(path + ": checkpoint was made from a different scene (or other --set values)");
+  const int frame = get<int32_t>(in);
+  time_ = get<Real>(in);
+  nextId_ = get<uint64_t>(in);
+  counters_ = get<SimulationCounters>(in);
+  ps_.attributes = get<AttributeMask>(in);
+  const uint64_t n = get<uint64_t>(in);
+  ps_.forEachArray([&](const char* name, auto& v) {
+    const uint32_t len = get<uint32_t>(in);
+    std::string stored(len, '\0');
+    in.read(stored.data(), len);
+    const uint32_t elem = get<uint32_t>(in);
+    if (stored != name || elem != sizeof(v[0])) throw std::runtime_error(path + ": checkpoint layout differs (array " + stored + ")");
+    v.resize(n);
+    in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(v[0])));
+  });
+  if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0) throw std::runtime_error(path + ": truncated checkpoint");
+  searchAndDensity();
+  return frame;
+}
+
+}  // namespace mf

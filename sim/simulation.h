@@ -1,0 +1,101 @@
+// The step loop: neighbour search, density (eq. 1 or number density), state equation, the
+// scene's enabled effects, symplectic Euler with adaptive dt, and a watchdog that retries a bad
+// step with a smaller dt or stops with a message naming the step, particle, phase and parameter.
+// It knows no scene: what happens to particles is decided by the effects a scene enables.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "effect.h"
+#include "kernels.h"
+#include "neighbor_search.h"
+#include "particles.h"
+#include "scene.h"
+
+namespace mf {
+
+/// Thrown when the watchdog gives up on a step. The simulation is left at the last valid state.
+class NumericalInstability : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct SimulationCounters {
+  uint64_t steps = 0;
+  uint64_t retries = 0;            // steps redone with half the dt by the watchdog
+  uint64_t removedOutOfDomain = 0; // particles that left the domain box
+  uint64_t wallClamps = 0;         // particles put back inside a container by the position clamp
+  Real lastDt = 0;
+  Real maxDensityError = 0;        // largest (rho - rho0)/rho0 seen after any accepted step
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+
+  const Scene& scene() const { return scene_; }
+  const ParticleSet& particles() const { return ps_; }
+  /// For tests and tools that edit state; call refresh() afterwards.
+  ParticleSet& mutableParticles() { return ps_; }
+  /// Recomputes neighbours, density and volume for the current positions.
+  void refresh();
+
+  Real time() const { return time_; }
+  uint64_t stepCount() const { return counters_.steps; }
+  const SimulationCounters& counters() const { return counters_; }
+  const SphKernels& kernels() const { return kernels_; }
+  const BoundarySamples& boundary() const { return boundary_; }
+  const NeighborLists& fluidNeighbors() const { return fluidNeighbors_; }
+  Real particleSpacing() const { return scene_.solver.particleSpacing; }
+  const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
+
+  /// One sub-step of at most `maxDt` seconds (the adaptive dt may be smaller); returns dt.
+  Real step(Real maxDt);
+  /// Sub-steps until time() == t exactly (the last sub-steps are evened out to land on t).
+  void advanceTo(Real t, const std::function<void(const Simulation&)>& afterStep = {});
+
+  /// Exact state to a file (temporary name, then rename), and back. Loading checks that the
+  /// checkpoint was made from the same scene text.
+  void saveCheckpoint(const std::string& path, int frame) const;
+  /// Returns the frame stored in the checkpoint.
+  int loadCheckpoint(const std::string& path);
+
+ private:
+  void seedFluid();
+  void searchAndDensity();
+  void computePressure();
+  void accumulateForces();
+  Real chooseDt() const;
+  void integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0);
+  /// Index of the first particle that breaks a watchdog rule, or -1; fills `why`.
+  int64_t findInvalidParticle(Real dt, std::string& why, std::string& parameter) const;
+  void removeOutOfDomain();
+  StepContext context() const;
+
+  Scene scene_;
+  SphKernels kernels_;
+  Vec3 gridOrigin_;
+  ParticleSet ps_;
+  BoundarySamples boundary_;
+  CellGrid fluidGrid_, boundaryGrid_;
+  NeighborLists fluidNeighbors_, boundaryNeighbors_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  std::vector<Vec3> savedPosition_, savedVelocity_;  // watchdog snapshot
+  Real time_ = 0;
+  uint64_t nextId_ = 0;
+  SimulationCounters counters_;
+};
+
+/// Sum over a cubic lattice of spacing s of W_poly6 within h (includes the centre): the
+/// number density of a particle inside a uniform block. Used to give seeded particles a mass
+/// so that the block starts exactly at rest density.
+Real latticeKernelSum(const SphKernels& kernels, Real spacing);
+
+}  // namespace mf

@@ -1,0 +1,193 @@
+#include "solids.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace mf {
+
+namespace {
+
+int divisions(Real length, Real spacing) { return std::max(1, int(std::lround(length / spacing))); }
+
+void sampleBox(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) {
+  const Vec3 ext = s.max - s.min;
+  const int n[3] = {divisions(ext.x, spacing), divisions(ext.y, spacing), divisions(ext.z, spacing)};
+  auto coord = [&](int axis, int i) { return s.min[axis] + ext[axis] * Real(i) / n[axis]; };
+  // Every lattice point with at least one coordinate on a face, minus the top face if open.
+  for (int k = 0; k <= n[2]; ++k)
+    for (int j = 0; j <= n[1]; ++j) {
+      const bool onZ = k == 0 || k == n[2], onY = j == 0 || j == n[1];
+      for (int i = 0; i <= n[0]; ++i) {
+        const bool onX = i == 0 || i == n[0];
+        if (!(onX || onY || onZ)) {
+          i = n[0] - 1;  // skip the interior of this row
+          continue;
+        }
+        if (s.openTop && j == n[1]) continue;
+        out.push_back({coord(0, i), coord(1, j), coord(2, k)});
+      }
+    }
+}
+
+void sampleRing(const Vec3& centre, Real r, Real spacing, std::vector<Vec3>& out) {
+  if (r < 0.25 * spacing) {
+    out.push_back(centre);
+    return;
+  }
+  const int n = std::max(3, int(std::lround(2 * kPi * r / spacing)));
+  for (int k = 0; k < n; ++k) {
+    const Real a = 2 * kPi * k / n;
+    out.push_back(centre + Vec3(r * std::cos(a), 0, r * std::sin(a)));
+  }
+}
+
+void sampleDisc(const Vec3& centre, Real radius, Real spacing, std::vector<Vec3>& out) {
+  const int rings = divisions(radius, spacing);
+  for (int k = 0; k <= rings; ++k) sampleRing(centre, radius * k / rings, spacing, out);
+}
+
+void sampleCylinder(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) {
+  sampleDisc(s.base, s.radius, spacing, out);
+  const int layers = divisions(s.height, spacing);
+  for (int k = 1; k <= layers; ++k)
+    sampleRing(s.base + Vec3(0, s.height * k / layers, 0), s.radius, spacing, out);
+  if (!s.openTop) sampleDisc(s.base + Vec3(0, s.height, 0), s.radius, spacing, out);
+}
+
+void sampleRevolution(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) {
+  const auto& pr = s.profile;
+  sampleDisc(s.base + Vec3(0, pr.front().first, 0), pr.front().second, spacing, out);
+  // Walk the profile polyline by arc length; one ring per step.
+  for (size_t seg = 0; seg + 1 < pr.size(); ++seg) {
+    const Real dy = pr[seg + 1].first - pr[seg].first, dr = pr[seg + 1].second - pr[seg].second;
+    const int steps = divisions(std::hypot(dy, dr), spacing);
+    for (int k = 1; k <= steps; ++k) {
+      const Real t = Real(k) / steps;
+      sampleRing(s.base + Vec3(0, pr[seg].first + t * dy, 0), pr[seg].second + t * dr, spacing, out);
+    }
+  }
+  sampleDisc(s.base + Vec3(0, pr.back().first, 0), pr.back().second, spacing, out);
+}
+
+}  // namespace
+
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing) {
+  std::vector<Vec3> out;
+  for (const SolidSpec& s : solids) {
+    switch (s.shape) {
+      case SolidSpec::Shape::Box: sampleBox(s, spacing, out); break;
+      case SolidSpec::Shape::Cylinder: sampleCylinder(s, spacing, out); break;
+      case SolidSpec::Shape::Revolution: sampleRevolution(s, spacing, out); break;
+    }
+  }
+  return out;
+}
+
+BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
+                                    const Vec3& gridOrigin) {
+  BoundarySamples b;
+  b.position = std::move(positions);
+  b.volume.assign(b.size(), 0);
+  if (b.size() == 0) return b;
+  CellGrid grid;
+  grid.build(b.position.data(), b.size(), gridOrigin, kernels.h);
+  NeighborLists nl;
+  grid.findNeighbors(b.position.data(), grid, b.position.data(), kernels.h, false, nl);
+  tbb::parallel_for(size_t(0), b.size(), [&](size_t i) {
+    Real sum = 0;
+    for (uint64_t k = nl.begin(i); k < nl.end(i); ++k)
+      sum += kernels.poly6(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
+    b.volume[i] = 1.0 / sum;  // sum includes the sample itself, so it is > 0
+  });
+  return b;
+}
+
+Real profileRadius(const SolidSpec& s, Real y) {
+  const auto& pr = s.profile;
+  if (y <= pr.front().first) return pr.front().second;
+  for (size_t k = 0; k + 1 < pr.size(); ++k)
+    if (y <= pr[k + 1].first) {
+      const Real t = (y - pr[k].first) / (pr[k + 1].first - pr[k].first);
+      return pr[k].second + t * (pr[k + 1].second - pr[k].second);
+    }
+  return pr.back().second;
+}
+
+bool insideFluidRegion(const SolidSpec& s, const Vec3& p) {
+  switch (s.shape) {
+    case SolidSpec::Shape::Box:
+      return p.x >= s.min.x && p.x <= s.max.x && p.y >= s.min.y && (s.openTop || p.y <= s.max.y) &&
+             p.z >= s.min.z && p.z <= s.max.z;
+    case SolidSpec::Shape::Cylinder: {
+      const Real dx = p.x - s.base.x, dz = p.z - s.base.z, y = p.y - s.base.y;
+      return y >= 0 && (s.openTop || y <= s.height) && dx * dx + dz * dz <= s.radius * s.radius;
+    }
+    case SolidSpec::Shape::Revolution: {
+      const Real dx = p.x - s.base.x, dz = p.z - s.base.z, y = p.y - s.base.y;
+      if (y < s.profile.front().first || y > s.profile.back().first) return false;
+      const Real r = profileRadius(s, y);
+      return dx * dx + dz * dz <= r * r;
+    }
+  }
+  return true;
+}
+
+namespace {
+
+// Keeps radial distance from the axis at most rmax; removes outward radial velocity.
+bool clampRadial(const Vec3& axisPoint, Real rmax, Vec3& p, Vec3& v) {
+  const Real dx = p.x - axisPoint.x, dz = p.z - axisPoint.z;
+  const Real r2 = dx * dx + dz * dz;
+  if (r2 <= rmax * rmax) return false;
+  const Real r = std::sqrt(r2);
+  const Real nx = dx / r, nz = dz / r;
+  p.x = axisPoint.x + nx * rmax;
+  p.z = axisPoint.z + nz * rmax;
+  const Real vn = v.x * nx + v.z * nz;
+  if (vn > 0) {
+    v.x -= vn * nx;
+    v.z -= vn * nz;
+  }
+  return true;
+}
+
+bool clampAxis(Real lo, Real hi, bool clampHi, Real& p, Real& v) {
+  if (p < lo) {
+    p = lo;
+    if (v < 0) v = 0;
+    return true;
+  }
+  if (clampHi && p > hi) {
+    p = hi;
+    if (v > 0) v = 0;
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+bool clampToFluidRegion(const SolidSpec& s, Vec3& p, Vec3& v) {
+  bool moved = false;
+  switch (s.shape) {
+    case SolidSpec::Shape::Box:
+      moved |= clampAxis(s.min.x, s.max.x, true, p.x, v.x);
+      moved |= clampAxis(s.min.y, s.max.y, !s.openTop, p.y, v.y);
+      moved |= clampAxis(s.min.z, s.max.z, true, p.z, v.z);
+      break;
+    case SolidSpec::Shape::Cylinder:
+      moved |= clampAxis(s.base.y, s.base.y + s.height, !s.openTop, p.y, v.y);
+      moved |= clampRadial(s.base, s.radius, p, v);
+      break;
+    case SolidSpec::Shape::Revolution:
+      moved |= clampAxis(s.base.y + s.profile.front().first, s.base.y + s.profile.back().first, true,
+                         p.y, v.y);
+      moved |= clampRadial(s.base, profileRadius(s, p.y - s.base.y), p, v);
+      break;
+  }
+  return moved;
+}
+
+}  // namespace mf

@@ -1,0 +1,30 @@
+// Solids (containers) as analytic shapes: sampled into boundary particles for the SPH forces
+// (Akinci et al. 2012), and used as a last-resort position clamp so that no fluid particle can
+// end a step inside a wall, however violent the step was.
+#pragma once
+
+#include <vector>
+
+#include "effect.h"
+#include "scene.h"
+
+namespace mf {
+
+/// Boundary samples of every solid in the scene, spacing ~ `spacing`.
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing);
+
+/// Akinci volumes Vb = 1 / sum_k W(x_b - x_k) over boundary samples within h.
+BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
+                                    const Vec3& gridOrigin);
+
+/// True if p lies in the fluid region of the solid (inside a container).
+bool insideFluidRegion(const SolidSpec& solid, const Vec3& p);
+
+/// Moves a particle that has crossed a wall back onto the wall and removes the velocity
+/// component into the wall. Returns true if it had to.
+bool clampToFluidRegion(const SolidSpec& solid, Vec3& p, Vec3& v);
+
+/// Radius of a revolution profile at height y above its base (linear between points).
+Real profileRadius(const SolidSpec& solid, Real y);
+
+}  // namespace mf
