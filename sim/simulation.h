@@ -54,6 +54,8 @@ class Simulation {
   const BoundarySamples& boundary() const { return boundary_; }
   const NeighborLists& fluidNeighbors() const { return fluidNeighbors_; }
   Real particleSpacing() const { return scene_.solver.particleSpacing; }
+  /// Distance of the wall samples outside the containers' surfaces (wallSampleOffset).
+  Real wallOffset() const { return wallOffset_; }
   const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
 
   /// One sub-step of at most `maxDt` seconds (the adaptive dt may be smaller); returns dt.
@@ -82,6 +84,7 @@ class Simulation {
   Scene scene_;
   SphKernels kernels_;
   Vec3 gridOrigin_;
+  Real wallOffset_ = 0;
   ParticleSet ps_;
   BoundarySamples boundary_;
   CellGrid fluidGrid_, boundaryGrid_;
@@ -97,5 +100,8 @@ class Simulation {
 /// number density of a particle inside a uniform block. Used to give seeded particles a mass
 /// so that the block starts exactly at rest density.
 Real latticeKernelSum(const SphKernels& kernels, Real spacing);
+
+/// sum_j V (x_j - x_i)_y d/dy_i W_spiky over the same lattice (1 for an exact gradient).
+Real latticeGradientMoment(const SphKernels& kernels, Real spacing);
 
 }  // namespace mf

@@ -73,9 +73,18 @@ void sampleRevolution(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) 
 
 }  // namespace
 
-std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing) {
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset) {
   std::vector<Vec3> out;
-  for (const SolidSpec& s : solids) {
+  const Vec3 d(offset, offset, offset);
+  for (SolidSpec s : solids) {
+    // The sampled surface is the container's surface pushed outward by `offset`.
+    s.min -= d;
+    s.max += d;
+    s.radius += offset;
+    s.base.y -= offset;
+    s.height += 2 * offset;
+    for (auto& pt : s.profile) pt.second += offset;
+    if (!s.profile.empty()) s.profile.back().first += 2 * offset;
     switch (s.shape) {
       case SolidSpec::Shape::Box: sampleBox(s, spacing, out); break;
       case SolidSpec::Shape::Cylinder: sampleCylinder(s, spacing, out); break;
@@ -102,6 +111,39 @@ BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernel
     b.volume[i] = 1.0 / sum;  // sum includes the sample itself, so it is > 0
   });
   return b;
+}
+
+Real wallSampleOffset(const SphKernels& K, Real s, Real b) {
+  const int nf = int(std::ceil(K.h / s)) + 1, nb = int(std::ceil(K.h / b)) + 1;
+  // Density of the first fluid layer (at z = s/2 above the surface) from the fluid half-lattice,
+  // relative to a full lattice.
+  Real full = 0, half = 0;
+  for (int k = -nf; k <= nf; ++k)
+    for (int j = -nf; j <= nf; ++j)
+      for (int i = -nf; i <= nf; ++i) {
+        const Real w = K.poly6Checked(s * s * Real(i * i + j * j + k * k));
+        full += w;
+        if (k >= 0) half += w;
+      }
+  const Real missing = 1 - half / full;
+  // One wall layer at depth `offset` below the surface: contribution sum_b V_b W, V_b = 1/sum_k W_bk.
+  Real layerAtSelf = 0;
+  for (int j = -nb; j <= nb; ++j)
+    for (int i = -nb; i <= nb; ++i) layerAtSelf += K.poly6Checked(b * b * Real(i * i + j * j));
+  auto wallContribution = [&](Real offset) {
+    const Real dz = 0.5 * s + offset;
+    Real sum = 0;
+    for (int j = -nb; j <= nb; ++j)
+      for (int i = -nb; i <= nb; ++i) sum += K.poly6Checked(b * b * Real(i * i + j * j) + dz * dz);
+    return sum / layerAtSelf;
+  };
+  Real lo = 0, hi = K.h;  // contribution falls monotonically with the offset
+  if (wallContribution(lo) <= missing) return 0;
+  for (int it = 0; it < 60; ++it) {
+    const Real mid = 0.5 * (lo + hi);
+    (wallContribution(mid) > missing ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
 }
 
 Real profileRadius(const SolidSpec& s, Real y) {

@@ -10,8 +10,17 @@
 
 namespace mf {
 
-/// Boundary samples of every solid in the scene, spacing ~ `spacing`.
-std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing);
+/// Boundary samples of every solid in the scene, spacing ~ `spacing`, placed `offset` outside
+/// each container's surface (see wallSampleOffset).
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset);
+
+/// How far outside a container's surface its single layer of samples must sit so that fluid
+/// on the seeding lattice (first layer half a spacing from the surface) is at rest density.
+/// Akinci's volume 1/sum_k W_bk makes one layer act like a slab of fluid about 0.8 h thick
+/// centred on the layer; sampled on the surface itself, half of that slab would overlap the
+/// fluid, which would then rest about a spacing away from the wall. Solved numerically
+/// (bisection) with the discrete lattice sums of the kernel actually used.
+Real wallSampleOffset(const SphKernels& kernels, Real particleSpacing, Real boundarySpacing);
 
 /// Akinci volumes Vb = 1 / sum_k W(x_b - x_k) over boundary samples within h.
 BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,

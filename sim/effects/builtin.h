@@ -10,5 +10,6 @@ namespace mf::effects {
 EffectInfo gravityInfo();
 EffectInfo pressureInfo();
 EffectInfo viscosityInfo();
+EffectInfo dampingInfo();
 
 }  // namespace mf::effects

@@ -1,9 +1,14 @@
 // Symmetric pressure force, Mueller et al. 2005 eq. (5), written per particle as a force:
-//   F_i = -V_i sum_j V_j (p_i + p_j)/2 grad W_spiky(x_i - x_j)
-// with V = m/rho (eq. 1) or 1/(number density) (Solenthaler & Pajarola 2008). The pair term is
-// antisymmetric in i and j, so pressure conserves linear momentum exactly up to rounding.
-// Walls (Akinci et al. 2012): a boundary sample b acts as a mirrored particle of pressure p_i
-// and volume rho0_i V_b / rho_i:  F_i -= V_i sum_b (rho0_i V_b / rho_i) p_i grad W.
+//   F_i = -V_i sum_j V_j (p_i + p_j) grad W_spiky(x_i - x_j)
+// with V = m/rho (eq. 1) or 1/(number density) (Solenthaler & Pajarola 2008).
+// Eq. (5) as printed averages the pair pressure, (p_i + p_j)/2. Inside a fluid
+// sum_j V_j grad W_ij = 0, so that form yields only half of grad p: a settled column would
+// carry twice the hydrostatic pressure. The pair sum p_i + p_j (Monaghan's symmetric form for
+// equal volumes) gives grad p itself; the pair term stays antisymmetric in i and j, so linear
+// momentum is conserved up to rounding (tested).
+// Walls (Akinci et al. 2012, eq. 10): a boundary sample b pushes with the particle's own
+// pressure and volume rho0_i V_b / rho_i:  F_i -= V_i sum_b (rho0_i V_b / rho_i) p_i grad W.
+// This is the force that follows from the wall's share rho0_i sum_b V_b W_ib of the density.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -15,9 +20,39 @@ namespace mf::effects {
 
 namespace {
 
+struct Mat3 {
+  Real m[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Vec3 operator*(const Vec3& v) const {
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+  }
+  void addOuter(const Vec3& a, const Vec3& b, Real w) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) m[r][c] += w * a[r] * b[c];
+  }
+  Real det() const {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  }
+  Mat3 inverse() const {
+    const Real d = 1 / det();
+    Mat3 r;
+    r.m[0][0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) * d;
+    r.m[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) * d;
+    r.m[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) * d;
+    r.m[1][0] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) * d;
+    r.m[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) * d;
+    r.m[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) * d;
+    r.m[2][0] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) * d;
+    r.m[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) * d;
+    r.m[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) * d;
+    return r;
+  }
+};
+
 class Pressure final : public Effect {
  public:
-  explicit Pressure(Real wallScale) : wallScale_(wallScale) {}
+  Pressure(Real wallScale, bool correctGradient) : wallScale_(wallScale), correct_(correctGradient) {}
   const char* name() const override { return "pressure"; }
 
   void accumulateForces(const StepContext& ctx, ParticleSet& ps) override {
@@ -25,26 +60,32 @@ class Pressure final : public Effect {
     const Vec3* x = ps.position.data();
     const Real* V = ps.volume.data();
     const Real* p = ps.pressure.data();
+    const NeighborLists& nf = ctx.fluidNeighbors;
+    const NeighborLists& nb = ctx.boundaryNeighbors;
+    if (correct_) computeCorrection(ctx, ps);
+    const Mat3* L = correct_ ? correction_.data() : nullptr;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 512), [&](const auto& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
         const Vec3 xi = x[i];
         const Real pi = p[i];
         Vec3 sum;
-        const NeighborLists& nf = ctx.fluidNeighbors;
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
           const Vec3 rij = xi - x[j];
-          const Real rl = std::sqrt(lengthSquared(rij));
-          sum += K.spikyGrad(rij, rl) * (V[j] * 0.5 * (pi + p[j]));
+          const Vec3 grad = K.spikyGrad(rij, std::sqrt(lengthSquared(rij)));
+          // (L_i + L_j)/2 keeps the pair term antisymmetric.
+          const Vec3 g = L ? (L[i] * grad + L[j] * grad) * 0.5 : grad;
+          sum += g * (V[j] * (pi + p[j]));
         }
-        const NeighborLists& nb = ctx.boundaryNeighbors;
         if (nb.count(i) > 0 && pi != 0) {
           const Real mirror = wallScale_ * ps.restDensity[i] / ps.density[i] * pi;
+          Vec3 wall;
           for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
             const uint32_t b = nb.indices[k];
             const Vec3 rib = xi - ctx.boundary.position[b];
-            sum += K.spikyGrad(rib, std::sqrt(lengthSquared(rib))) * (ctx.boundary.volume[b] * mirror);
+            wall += K.spikyGrad(rib, std::sqrt(lengthSquared(rib))) * (ctx.boundary.volume[b] * mirror);
           }
+          sum += L ? L[i] * wall : wall;
         }
         ps.force[i] -= sum * V[i];
       }
@@ -52,7 +93,49 @@ class Pressure final : public Effect {
   }
 
  private:
+  // L_i = (sum_j V_j (x_j - x_i) (x) grad W_ij)^-1 over fluid and wall neighbours (Bonet & Lok
+  // 1999): makes the discrete gradient exact for linear pressure fields whatever the particle
+  // arrangement. Where the neighbourhood is too incomplete for the inverse to be trusted (near
+  // a free surface), the correction fades to the identity.
+  void computeCorrection(const StepContext& ctx, const ParticleSet& ps) {
+    const SphKernels& K = ctx.kernels;
+    correction_.resize(ps.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 512), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        Mat3 A;
+        for (auto& row : A.m)
+          for (Real& v : row) v = 0;
+        const Vec3 xi = ps.position[i];
+        const NeighborLists& nf = ctx.fluidNeighbors;
+        for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
+          const uint32_t j = nf.indices[k];
+          const Vec3 rij = xi - ps.position[j];
+          A.addOuter(-rij, K.spikyGrad(rij, std::sqrt(lengthSquared(rij))), ps.volume[j]);
+        }
+        const NeighborLists& nb = ctx.boundaryNeighbors;
+        const Real wallVolume = ps.restDensity[i] / ps.density[i];
+        for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
+          const uint32_t b = nb.indices[k];
+          const Vec3 rib = xi - ctx.boundary.position[b];
+          A.addOuter(-rib, K.spikyGrad(rib, std::sqrt(lengthSquared(rib))), wallVolume * ctx.boundary.volume[b]);
+        }
+        const Real d = A.det();
+        Mat3 L;  // identity
+        if (d > 0.25) {
+          const Mat3 inv = A.inverse();
+          // Weight 1 for a full neighbourhood (det ~ 1), fading to 0 at det = 0.25.
+          const Real w = std::min(Real(1), (d - 0.25) / 0.5);
+          for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c) L.m[a][c] = w * inv.m[a][c] + (1 - w) * (a == c ? 1 : 0);
+        }
+        correction_[i] = L;
+      }
+    });
+  }
+
   Real wallScale_;
+  bool correct_;
+  std::vector<Mat3> correction_;
 };
 
 }  // namespace
@@ -60,9 +143,10 @@ class Pressure final : public Effect {
 EffectInfo pressureInfo() {
   return {"pressure",
           "state equation P = k (rho - rho0) and the symmetric pressure force (eq. 5), walls by Akinci 2012",
-          {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"}},
+          {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"},
+           {"gradient_correction", 1, 0, 1, {1.0}, "", "1: symmetric kernel-gradient correction (exact for linear fields); 0: plain kernel gradient"}},
           [](const EffectSpec& spec, const Scene&) {
-            return std::make_unique<Pressure>(spec.number("wall_scale"));
+            return std::make_unique<Pressure>(spec.number("wall_scale"), spec.number("gradient_correction") > 0.5);
           }};
 }
 

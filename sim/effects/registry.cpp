@@ -8,6 +8,7 @@ const std::vector<EffectInfo>& effectRegistry() {
       effects::gravityInfo(),
       effects::pressureInfo(),
       effects::viscosityInfo(),
+      effects::dampingInfo(),
   };
   return registry;
 }
