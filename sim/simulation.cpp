@@ -258,15 +258,17 @@ Real Simulation::chooseDt() const {
 void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
   // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), x(t+dt) = x + dt v(t+dt).
   std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
+  const Real onWallTolerance = 0.1 * scene_.solver.particleSpacing;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     uint64_t clamps = 0;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Vec3 v = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
       Vec3 x = x0[i] + v * dt;
-      // A container is never crossed: a particle that was inside and would end outside is
-      // put back on the wall (only matters when the wall forces lost to a violent step).
+      // A container is never crossed: a particle that was inside (or on the wall, within
+      // rounding) and would end outside is put back on the wall. Matters for splashes whose
+      // density stays below rest density (no pressure, so no wall force) and violent steps.
       for (const SolidSpec& s : scene_.solids)
-        if (insideFluidRegion(s, x0[i]) && !insideFluidRegion(s, x)) clamps += clampToFluidRegion(s, x, v);
+        if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance)) clamps += clampToFluidRegion(s, x, v);
       ps_.velocity[i] = v;
       ps_.position[i] = x;
     }
@@ -316,6 +318,28 @@ int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& 
   return first;
 }
 
+void Simulation::checkInputs() const {
+  // The solver never leaves a non-finite state behind (the end-of-step check), so one found
+  // here was put in from outside: a corrupt checkpoint or a tool editing the particles.
+  const int64_t none = std::numeric_limits<int64_t>::max();
+  const int64_t bad = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, ps_.size(), kGrain), none,
+      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
+        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
+          if (!isFinite(ps_.position[i]) || !isFinite(ps_.velocity[i]) || !std::isfinite(ps_.mass[i]) || !(ps_.mass[i] > 0))
+            return int64_t(i);
+        return best;
+      },
+      [](int64_t a, int64_t b) { return std::min(a, b); });
+  if (bad == none) return;
+  const size_t i = size_t(bad);
+  throw NumericalInstability(fmt::format(
+      "invalid input before step {} (t = {:.6g} s): particle id {} of phase \"{}\" has x = ({}, {}, {}), v = ({}, {}, {}), "
+      "m = {}. The solver never writes such values: the state was modified from outside or read from a corrupt checkpoint.",
+      counters_.steps, time_, ps_.id[i], scene_.phases[ps_.phase[i]].name, ps_.position[i].x, ps_.position[i].y,
+      ps_.position[i].z, ps_.velocity[i].x, ps_.velocity[i].y, ps_.velocity[i].z, ps_.mass[i]));
+}
+
 void Simulation::removeOutOfDomain() {
   const size_t n = ps_.size();
   std::vector<uint8_t> out(n, 0);
@@ -339,6 +363,7 @@ Real Simulation::step(Real maxDt) {
     ps_.permute(order);
     searchAndDensity();
   }
+  checkInputs();
   computePressure();
   accumulateForces();
   Real dt = std::min(chooseDt(), maxDt);

@@ -79,6 +79,7 @@ class Simulation {
   /// Index of the first particle that breaks a watchdog rule, or -1; fills `why`.
   int64_t findInvalidParticle(Real dt, std::string& why, std::string& parameter) const;
   void removeOutOfDomain();
+  void checkInputs() const;
   StepContext context() const;
 
   Scene scene_;

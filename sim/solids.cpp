@@ -157,19 +157,19 @@ Real profileRadius(const SolidSpec& s, Real y) {
   return pr.back().second;
 }
 
-bool insideFluidRegion(const SolidSpec& s, const Vec3& p) {
+bool insideFluidRegion(const SolidSpec& s, const Vec3& p, Real m) {
   switch (s.shape) {
     case SolidSpec::Shape::Box:
-      return p.x >= s.min.x && p.x <= s.max.x && p.y >= s.min.y && (s.openTop || p.y <= s.max.y) &&
-             p.z >= s.min.z && p.z <= s.max.z;
+      return p.x >= s.min.x - m && p.x <= s.max.x + m && p.y >= s.min.y - m && (s.openTop || p.y <= s.max.y + m) &&
+             p.z >= s.min.z - m && p.z <= s.max.z + m;
     case SolidSpec::Shape::Cylinder: {
-      const Real dx = p.x - s.base.x, dz = p.z - s.base.z, y = p.y - s.base.y;
-      return y >= 0 && (s.openTop || y <= s.height) && dx * dx + dz * dz <= s.radius * s.radius;
+      const Real dx = p.x - s.base.x, dz = p.z - s.base.z, y = p.y - s.base.y, r = s.radius + m;
+      return y >= -m && (s.openTop || y <= s.height + m) && dx * dx + dz * dz <= r * r;
     }
     case SolidSpec::Shape::Revolution: {
       const Real dx = p.x - s.base.x, dz = p.z - s.base.z, y = p.y - s.base.y;
-      if (y < s.profile.front().first || y > s.profile.back().first) return false;
-      const Real r = profileRadius(s, y);
+      if (y < s.profile.front().first - m || y > s.profile.back().first + m) return false;
+      const Real r = profileRadius(s, y) + m;
       return dx * dx + dz * dz <= r * r;
     }
   }
@@ -185,8 +185,9 @@ bool clampRadial(const Vec3& axisPoint, Real rmax, Vec3& p, Vec3& v) {
   if (r2 <= rmax * rmax) return false;
   const Real r = std::sqrt(r2);
   const Real nx = dx / r, nz = dz / r;
-  p.x = axisPoint.x + nx * rmax;
-  p.z = axisPoint.z + nz * rmax;
+  const Real target = rmax * (1 - 1e-9);  // strictly inside after rounding
+  p.x = axisPoint.x + nx * target;
+  p.z = axisPoint.z + nz * target;
   const Real vn = v.x * nx + v.z * nz;
   if (vn > 0) {
     v.x -= vn * nx;

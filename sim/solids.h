@@ -26,8 +26,8 @@ Real wallSampleOffset(const SphKernels& kernels, Real particleSpacing, Real boun
 BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
                                     const Vec3& gridOrigin);
 
-/// True if p lies in the fluid region of the solid (inside a container).
-bool insideFluidRegion(const SolidSpec& solid, const Vec3& p);
+/// True if p lies in the fluid region of the solid (inside a container), grown by `margin`.
+bool insideFluidRegion(const SolidSpec& solid, const Vec3& p, Real margin = 0);
 
 /// Moves a particle that has crossed a wall back onto the wall and removes the velocity
 /// component into the wall. Returns true if it had to.

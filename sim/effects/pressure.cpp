@@ -121,10 +121,11 @@ class Pressure final : public Effect {
         }
         const Real d = A.det();
         Mat3 L;  // identity
-        if (d > 0.25) {
+        // Full correction only for well-filled neighbourhoods (det(A) >= 0.8), fading to none
+        // at 0.6: near free surfaces and in sparse spray the inverse amplifies noise.
+        const Real w = std::clamp((d - 0.6) / 0.2, Real(0), Real(1));
+        if (w > 0) {
           const Mat3 inv = A.inverse();
-          // Weight 1 for a full neighbourhood (det ~ 1), fading to 0 at det = 0.25.
-          const Real w = std::min(Real(1), (d - 0.25) / 0.5);
           for (int a = 0; a < 3; ++a)
             for (int c = 0; c < 3; ++c) L.m[a][c] = w * inv.m[a][c] + (1 - w) * (a == c ? 1 : 0);
         }

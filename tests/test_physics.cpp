@@ -1,0 +1,143 @@
+// Conservation laws and the behaviour of the core that have exact or analytic answers.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace {
+
+// A free cube of fluid with random velocities, no walls and no gravity: internal forces only.
+const char* kFreeCube = R"(
+[scene]
+name = "free"
+end_time = 1.0
+frame_rate = 10
+domain_min = [-1.0, -1.0, -1.0]
+domain_max = [1.0, 1.0, 1.0]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "a"
+rest_density = 1000.0
+stiffness = 100.0
+viscosity = 0.2
+[[phase]]
+name = "b"
+rest_density = 600.0
+stiffness = 300.0
+viscosity = 0.02
+[[fluid]]
+phase = "a"
+jitter = 0.2
+min = [0.0, 0.0, 0.0]
+max = [0.06, 0.12, 0.12]
+[[fluid]]
+phase = "b"
+jitter = 0.2
+min = [0.06, 0.0, 0.0]
+max = [0.12, 0.12, 0.12]
+[effects.pressure]
+[effects.viscosity]
+)";
+
+TEST(Physics, LinearMomentumConservedWithoutWallsOrGravity) {
+  for (const char* formulation : {"mass", "number"}) {
+    mf::Simulation sim(mf::parseScene(kFreeCube, "free", {std::string("solver.density_formulation=") + formulation}));
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> n(0, 0.3);
+    auto& ps = sim.mutableParticles();
+    for (auto& v : ps.velocity) v = {n(rng), n(rng), n(rng)};
+    sim.refresh();
+    auto momentum = [&] {
+      mf::Vec3 p;
+      double scale = 0;  // sum |m v|: the size rounding errors are relative to
+      for (size_t i = 0; i < sim.particles().size(); ++i) {
+        p += sim.particles().velocity[i] * sim.particles().mass[i];
+        scale += mf::length(sim.particles().velocity[i]) * sim.particles().mass[i];
+      }
+      return std::make_pair(p, scale);
+    };
+    const auto [p0, scale] = momentum();
+    for (int k = 0; k < 200; ++k) sim.step(1.0);
+    const auto [p1, scale1] = momentum();
+    // Pair forces cancel exactly; what remains is the rounding of the sums over ~1700 particles
+    // and 200 steps: ~1e-16 relative per operation, far below 1e-10.
+    EXPECT_LT(mf::length(p1 - p0), 1e-10 * scale) << formulation;
+    EXPECT_EQ(sim.counters().retries, 0u);
+    (void)scale1;
+  }
+}
+
+// Two fluids layered 1:10 at rest on the seeding lattice, far from walls.
+const char* kLayered = R"(
+[scene]
+name = "layered"
+end_time = 1.0
+frame_rate = 10
+domain_min = [-1.0, -1.0, -1.0]
+domain_max = [1.0, 1.0, 1.0]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "heavy"
+rest_density = 1000.0
+stiffness = 100.0
+[[phase]]
+name = "light"
+rest_density = 100.0
+stiffness = 100.0
+[[fluid]]
+phase = "heavy"
+min = [0.0, 0.0, 0.0]
+max = [0.16, 0.08, 0.16]
+[[fluid]]
+phase = "light"
+min = [0.0, 0.08, 0.0]
+max = [0.16, 0.16, 0.16]
+[effects.pressure]
+)";
+
+// Largest |rho/rho0 - 1| over particles within one support radius of the interface and at
+// least two from every free face of the block.
+double interfaceDensityError(const mf::Simulation& sim) {
+  const auto& ps = sim.particles();
+  const double h = sim.kernels().h;
+  double worst = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const mf::Vec3 x = ps.position[i];
+    if (std::fabs(x.y - 0.08) > h) continue;
+    if (x.x < 2 * h || x.x > 0.16 - 2 * h || x.z < 2 * h || x.z > 0.16 - 2 * h) continue;
+    worst = std::max(worst, std::fabs(ps.density[i] / ps.restDensity[i] - 1));
+  }
+  return worst;
+}
+
+TEST(Physics, NumberDensityFixesDensityAtOneToTenInterface) {
+  mf::Simulation mass(mf::parseScene(kLayered, "layered", {"solver.density_formulation=mass"}));
+  mf::Simulation number(mf::parseScene(kLayered, "layered", {"solver.density_formulation=number"}));
+  const double errMass = interfaceDensityError(mass), errNumber = interfaceDensityError(number);
+  std::printf("density error at a 1:10 interface: mass summation %.1f %%, number density %.2e %%\n", 100 * errMass,
+              100 * errNumber);
+  // Eq. (1) gives a light particle next to the interface the mass of its heavy neighbours:
+  // several times its rest density. Number density depends on positions only, and the block
+  // sits on the lattice the masses were calibrated on: exact to rounding.
+  EXPECT_GT(errMass, 1.0);
+  EXPECT_LT(errNumber, 1e-9);
+}
+
+TEST(Physics, UnusedAttributesAreNotAllocated) {
+  mf::Simulation sim(mf::parseScene(kLayered, "layered"));
+  const auto& ps = sim.particles();
+  EXPECT_FALSE(ps.has(mf::Attribute::Temperature));
+  EXPECT_EQ(ps.temperature.capacity(), 0u);
+  EXPECT_EQ(ps.interfaceColour.capacity(), 0u);
+  EXPECT_EQ(ps.surfaceColour.capacity(), 0u);
+  size_t arrays = 0;
+  const_cast<mf::ParticleSet&>(ps).forEachArray([&](const char*, const auto&) { ++arrays; });
+  EXPECT_EQ(arrays, 12u);  // the core attributes only
+}
+
+}  // namespace

@@ -1,0 +1,87 @@
+// The watchdog: bad steps are retried with a smaller dt, and a run that cannot be saved stops
+// with a message naming the step, the particle, its phase and the parameter at fault.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace {
+
+const char* kDrop = R"(
+[scene]
+name = "drop"
+end_time = 0.2
+frame_rate = 10
+domain_min = [-0.01, -0.01, -0.01]
+domain_max = [0.11, 0.21, 0.11]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+viscosity = 0.1
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.1]
+[[fluid]]
+phase = "water"
+min = [0.0, 0.05, 0.0]
+max = [0.1, 0.15, 0.1]
+velocity = [0.0, -2.0, 0.0]
+[effects.gravity]
+[effects.pressure]
+[effects.viscosity]
+)";
+
+bool allFinite(const mf::ParticleSet& ps) {
+  for (size_t i = 0; i < ps.size(); ++i)
+    if (!mf::isFinite(ps.position[i]) || !mf::isFinite(ps.velocity[i]) || !std::isfinite(ps.density[i])) return false;
+  return true;
+}
+
+TEST(Watchdog, InjectedNaNStopsTheRunNamingTheParticle) {
+  mf::Simulation sim(mf::parseScene(kDrop, "drop"));
+  sim.advanceTo(0.01);
+  const size_t victim = sim.particles().size() / 2;
+  const uint64_t victimId = sim.particles().id[victim];
+  sim.mutableParticles().velocity[victim].y = std::numeric_limits<double>::quiet_NaN();
+  try {
+    sim.step(1.0);
+    FAIL() << "NaN was not caught";
+  } catch (const mf::NumericalInstability& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("particle id " + std::to_string(victimId) + " of phase \"water\""), std::string::npos) << msg;
+    EXPECT_NE(msg.find("invalid input"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("before step "), std::string::npos) << msg;
+  }
+}
+
+TEST(Watchdog, TooLargeTimeStepIsRetriedSmaller) {
+  // cfl = 10 is 25x the default: each step moves particles by several support radii.
+  mf::Simulation sim(mf::parseScene(kDrop, "drop", {"solver.cfl=10.0", "solver.force_factor=10.0", "solver.max_dt=0.01"}));
+  sim.advanceTo(0.1);
+  EXPECT_GT(sim.counters().retries, 0u);
+  EXPECT_TRUE(allFinite(sim.particles()));
+  EXPECT_LT(sim.counters().maxDensityError, 0.5);
+}
+
+TEST(Watchdog, TooLargeTimeStepWithoutRetriesStopsNamingTheParameter) {
+  mf::Simulation sim(mf::parseScene(kDrop, "drop", {"solver.cfl=10.0", "solver.force_factor=10.0", "solver.max_dt=0.01", "solver.max_retries=0"}));
+  try {
+    sim.advanceTo(0.1);
+    FAIL() << "unstable step was not caught";
+  } catch (const mf::NumericalInstability& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("solver.cfl"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("of phase \"water\""), std::string::npos) << msg;
+  }
+  // The simulation is left at its last valid state.
+  EXPECT_TRUE(allFinite(sim.particles()));
+}
+
+}  // namespace
