@@ -59,6 +59,10 @@ void CellGrid::build(const Vec3* points, size_t n, const Vec3& origin, Real cell
   tbb::parallel_sort(keys.begin(), keys.end());
 
   sorted_.resize(n);
+  sortedPoints_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t p = r.begin(); p != r.end(); ++p) sortedPoints_[p] = points[keys[p].index];
+  });
   cellKeys_.clear();
   cellStart_.clear();
   cellCoord_.clear();
@@ -81,8 +85,7 @@ int64_t CellGrid::findCell(uint64_t key) const {
   return it - cellKeys_.begin();
 }
 
-void CellGrid::findNeighbors(const Vec3* points, const CellGrid& other, const Vec3* otherPoints,
-                             Real radius, bool excludeSelf, NeighborLists& out) const {
+void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out) const {
   const size_t nPoints = sorted_.size();
   const size_t nCells = cellKeys_.size();
   const size_t nBlocks = (nCells + kCellsPerBlock - 1) / kCellsPerBlock;
@@ -98,6 +101,7 @@ void CellGrid::findNeighbors(const Vec3* points, const CellGrid& other, const Ve
     buf.clear();
     const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
     uint32_t ranges[27][2];
+    Vec3 boxLo[27];  // lower corner of each neighbour cell, to skip cells out of reach
     for (size_t c = c0; c < c1; ++c) {
       int nr = 0;
       int32_t base[3] = {cellCoord_[3 * c], cellCoord_[3 * c + 1], cellCoord_[3 * c + 2]};
@@ -115,18 +119,29 @@ void CellGrid::findNeighbors(const Vec3* points, const CellGrid& other, const Ve
             if (oc < 0) continue;
             ranges[nr][0] = other.cellStart_[oc];
             ranges[nr][1] = other.cellStart_[oc + 1];
+            boxLo[nr] = other.origin_ + Vec3(x, y, z) * other.cellSize_;
             ++nr;
           }
+      const Real cs = other.cellSize_;
+      const Vec3* xs = other.sortedPoints_.data();
+      const uint32_t* js = other.sorted_.data();
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
         const uint32_t i = sorted_[p];
-        const Vec3 xi = points[i];
+        const Vec3 xi = sortedPoints_[p];
         const size_t before = buf.size();
         for (int r = 0; r < nr; ++r) {
+          // Distance from xi to the cell's box: a cell entirely beyond the radius is skipped
+          // (about a quarter of the 27 for a radius equal to the cell size).
+          Real d2 = 0;
+          for (int a = 0; a < 3; ++a) {
+            const Real lo = boxLo[r][a], v = xi[a];
+            const Real d = v < lo ? lo - v : (v > lo + cs ? v - lo - cs : 0);
+            d2 += d * d;
+          }
+          if (d2 >= r2max) continue;
           for (uint32_t q = ranges[r][0]; q < ranges[r][1]; ++q) {
-            const uint32_t j = other.sorted_[q];
-            if (excludeSelf && j == i) continue;
-            const Vec3 d = xi - otherPoints[j];
-            if (lengthSquared(d) < r2max) buf.push_back(j);
+            const Vec3 d = xi - xs[q];
+            if (lengthSquared(d) < r2max && !(excludeSelf && js[q] == i)) buf.push_back(js[q]);
           }
         }
         counts[i] = uint32_t(buf.size() - before);

@@ -33,16 +33,17 @@ class CellGrid {
   /// into the first cell layer, which only matters for points about to be removed).
   void build(const Vec3* points, size_t n, const Vec3& origin, Real cellSize);
 
+
   /// Point indices in cell order.
   const std::vector<uint32_t>& sortedIndices() const { return sorted_; }
   size_t cellCount() const { return cellKeys_.size(); }
   Real cellSize() const { return cellSize_; }
 
   /// For each point, its list of points of `other` (or of this grid) within `radius` (<= the
-  /// cell size), excluding itself when other == this. Rows follow the point index; inside a row,
+  /// cell size), excluding itself when other == this. Both grids must have been built from the
+  /// points passed here (positions are read from the grids' sorted copies). Rows follow the point index; inside a row,
   /// neighbours come in a fixed order (the 27 cells in z, y, x order, then cell order).
-  void findNeighbors(const Vec3* points, const CellGrid& other, const Vec3* otherPoints,
-                     Real radius, bool excludeSelf, NeighborLists& out) const;
+  void findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out) const;
 
   /// Cell coordinates of a position (clamped to the grid's non-negative range).
   void cellOf(const Vec3& p, int32_t c[3]) const;
@@ -53,6 +54,7 @@ class CellGrid {
   Vec3 origin_;
   Real cellSize_ = 1;
   std::vector<uint32_t> sorted_;      // point indices in (key, index) order
+  std::vector<Vec3> sortedPoints_;    // the points in that order: candidate scans read memory linearly
   std::vector<uint64_t> cellKeys_;    // sorted unique Morton keys
   std::vector<uint32_t> cellStart_;   // cellStart_[c] .. cellStart_[c+1] in sorted_
   std::vector<int32_t> cellCoord_;    // 3 ints per cell

@@ -5,6 +5,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +30,9 @@ uint64_t splitmix(uint64_t x) {
 Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 9007199254740992.0); }
 
 constexpr size_t kGrain = 1024;
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 template <class F>
 Real parallelMax(size_t n, F&& value) {
@@ -163,7 +167,7 @@ void Simulation::seedFluid() {
     CellGrid g;
     g.build(cx.data(), cx.size(), gridOrigin_, kernels_.h);
     NeighborLists nl;
-    g.findNeighbors(cx.data(), boundaryGrid_, boundary_.position.data(), 0.45 * s, false, nl);
+    g.findNeighbors(boundaryGrid_, 0.45 * s, false, nl);
     for (size_t i = 0; i < cx.size(); ++i) keep[i] = nl.count(i) == 0;
   }
   ps_.reserve(candidates.size());
@@ -182,16 +186,18 @@ StepContext Simulation::context() const {
 void Simulation::refresh() { searchAndDensity(); }
 
 void Simulation::searchAndDensity() {
+  const auto t0 = Clock::now();
   const size_t n = ps_.size();
   fluidGrid_.build(ps_.position.data(), n, gridOrigin_, kernels_.h);
-  fluidGrid_.findNeighbors(ps_.position.data(), fluidGrid_, ps_.position.data(), kernels_.h, true, fluidNeighbors_);
+  fluidGrid_.findNeighbors(fluidGrid_, kernels_.h, true, fluidNeighbors_);
   if (boundary_.size() > 0) {
-    fluidGrid_.findNeighbors(ps_.position.data(), boundaryGrid_, boundary_.position.data(), kernels_.h, false,
-                             boundaryNeighbors_);
+    fluidGrid_.findNeighbors(boundaryGrid_, kernels_.h, false, boundaryNeighbors_);
   } else {
     boundaryNeighbors_.offsets.assign(n + 1, 0);
     boundaryNeighbors_.indices.clear();
   }
+  const auto t1 = Clock::now();
+  times_.neighborSearch += std::chrono::duration<double>(t1 - t0).count();
   const bool numberDensity = scene_.solver.density == DensityFormulation::Number;
   const SphKernels& K = kernels_;
   const Real w0 = K.poly6(0);
@@ -201,13 +207,13 @@ void Simulation::searchAndDensity() {
       Real fluidSum = 0;  // sum_j m_j W_ij, or sum_j W_ij for number density
       for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
         const uint32_t j = fluidNeighbors_.indices[k];
-        const Real w = K.poly6(lengthSquared(xi - ps_.position[j]));
+        const Real w = K.poly6Checked(lengthSquared(xi - ps_.position[j]));
         fluidSum += numberDensity ? w : ps_.mass[j] * w;
       }
       Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
       for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
         const uint32_t b = boundaryNeighbors_.indices[k];
-        wallSum += boundary_.volume[b] * K.poly6(lengthSquared(xi - boundary_.position[b]));
+        wallSum += boundary_.volume[b] * K.poly6Checked(lengthSquared(xi - boundary_.position[b]));
       }
       const Real mi = ps_.mass[i], rho0 = ps_.restDensity[i];
       if (numberDensity) {
@@ -220,9 +226,11 @@ void Simulation::searchAndDensity() {
       }
     }
   });
+  times_.density += since(t1);
 }
 
 void Simulation::computePressure() {
+  const auto t0 = Clock::now();
   const bool clamp = scene_.solver.clampNegativePressure;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -230,12 +238,18 @@ void Simulation::computePressure() {
       ps_.pressure[i] = clamp && p < 0 ? 0 : p;
     }
   });
+  times_.density += since(t0);
 }
 
 void Simulation::accumulateForces() {
   std::fill(ps_.force.begin(), ps_.force.end(), Vec3{});
   const StepContext ctx = context();
-  for (const auto& e : effects_) e->accumulateForces(ctx, ps_);
+  times_.effect.resize(effects_.size(), 0);
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    const auto t0 = Clock::now();
+    effects_[k]->accumulateForces(ctx, ps_);
+    times_.effect[k] += since(t0);
+  }
 }
 
 Real Simulation::chooseDt() const {
@@ -256,6 +270,7 @@ Real Simulation::chooseDt() const {
 }
 
 void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
+  const auto t0 = Clock::now();
   // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), x(t+dt) = x + dt v(t+dt).
   std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
   const Real onWallTolerance = 0.1 * scene_.solver.particleSpacing;
@@ -275,6 +290,7 @@ void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vect
     clampsPerBlock[r.begin() / kGrain] += clamps;
   });
   for (uint64_t c : clampsPerBlock) counters_.wallClamps += c;
+  times_.integrate += since(t0);
 }
 
 int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& parameter) const {

@@ -34,6 +34,14 @@ struct SimulationCounters {
   Real maxDensityError = 0;        // largest (rho - rho0)/rho0 seen after any accepted step
 };
 
+/// Wall-clock seconds spent in each part of the step (not part of the checkpointed state).
+struct StageTimes {
+  double neighborSearch = 0;  // grid build + neighbour lists (includes re-sorts and retries)
+  double density = 0;         // density, volume and state equation
+  std::vector<double> effect; // per enabled effect, in effects() order
+  double integrate = 0;       // dt choice, integration, wall clamp, watchdog checks
+};
+
 class Simulation {
  public:
   explicit Simulation(const Scene& scene);
@@ -50,6 +58,7 @@ class Simulation {
   Real time() const { return time_; }
   uint64_t stepCount() const { return counters_.steps; }
   const SimulationCounters& counters() const { return counters_; }
+  const StageTimes& stageTimes() const { return times_; }
   const SphKernels& kernels() const { return kernels_; }
   const BoundarySamples& boundary() const { return boundary_; }
   const NeighborLists& fluidNeighbors() const { return fluidNeighbors_; }
@@ -95,6 +104,7 @@ class Simulation {
   Real time_ = 0;
   uint64_t nextId_ = 0;
   SimulationCounters counters_;
+  StageTimes times_;
 };
 
 /// Sum over a cubic lattice of spacing s of W_poly6 within h (includes the centre): the

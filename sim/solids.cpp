@@ -103,11 +103,11 @@ BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernel
   CellGrid grid;
   grid.build(b.position.data(), b.size(), gridOrigin, kernels.h);
   NeighborLists nl;
-  grid.findNeighbors(b.position.data(), grid, b.position.data(), kernels.h, false, nl);
+  grid.findNeighbors(grid, kernels.h, false, nl);
   tbb::parallel_for(size_t(0), b.size(), [&](size_t i) {
     Real sum = 0;
     for (uint64_t k = nl.begin(i); k < nl.end(i); ++k)
-      sum += kernels.poly6(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
+      sum += kernels.poly6Checked(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
     b.volume[i] = 1.0 / sum;  // sum includes the sample itself, so it is > 0
   });
   return b;

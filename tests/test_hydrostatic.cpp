@@ -37,6 +37,7 @@ min = [0.0, 0.0, 0.0]
 max = [0.1, 0.08, 0.1]
 [effects.gravity]
 [effects.pressure]
+gradient_correction = 1
 [effects.viscosity]
 [effects.damping]
 rate = 40.0

@@ -44,7 +44,7 @@ TEST(NeighborSearch, SelfQueryMatchesBruteForce) {
   mf::CellGrid g;
   g.build(p.data(), p.size(), {-0.1, -0.1, -0.1}, h);
   mf::NeighborLists nl;
-  g.findNeighbors(p.data(), g, p.data(), h, true, nl);
+  g.findNeighbors(g, h, true, nl);
   expectMatchesBruteForce(p, p, h, true, nl);
 }
 
@@ -55,9 +55,9 @@ TEST(NeighborSearch, CrossQueryAndSmallerRadius) {
   ga.build(a.data(), a.size(), {-0.1, -0.1, -0.1}, h);
   gb.build(b.data(), b.size(), {-0.1, -0.1, -0.1}, h);
   mf::NeighborLists nl;
-  ga.findNeighbors(a.data(), gb, b.data(), h, false, nl);
+  ga.findNeighbors(gb, h, false, nl);
   expectMatchesBruteForce(a, b, h, false, nl);
-  ga.findNeighbors(a.data(), gb, b.data(), 0.6 * h, false, nl);
+  ga.findNeighbors(gb, 0.6 * h, false, nl);
   expectMatchesBruteForce(a, b, 0.6 * h, false, nl);
 }
 

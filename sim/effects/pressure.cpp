@@ -145,7 +145,7 @@ EffectInfo pressureInfo() {
   return {"pressure",
           "state equation P = k (rho - rho0) and the symmetric pressure force (eq. 5), walls by Akinci 2012",
           {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"},
-           {"gradient_correction", 1, 0, 1, {1.0}, "", "1: symmetric kernel-gradient correction (exact for linear fields); 0: plain kernel gradient"}},
+           {"gradient_correction", 1, 0, 1, {0.0}, "", "1: symmetric kernel-gradient correction, exact for linear pressure fields (settled pressure error ~1 % instead of ~4 %, about 45 % more time per step); 0: plain kernel gradient"}},
           [](const EffectSpec& spec, const Scene&) {
             return std::make_unique<Pressure>(spec.number("wall_scale"), spec.number("gradient_correction") > 0.5);
           }};
