@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs what multifluid needs to build, test and run, from Debian 12's packages.
+# Run as root. Does nothing (and needs no network) when everything is already there.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config ccache
+  libopenvdb-dev libtbb-dev libboost-iostreams-dev libeigen3-dev libfmt-dev libtomlplusplus-dev
+  libembree-dev libosmesa6-dev
+  libgtest-dev libbenchmark-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "setup: all ${#packages[@]} packages present"
+  exit 0
+fi
+if [ "$(id -u)" -ne 0 ]; then
+  echo "setup: missing packages: ${missing[*]}; run this script as root (or install them)" >&2
+  exit 1
+fi
+echo "setup: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq
+apt-get install -y -qq --no-install-recommends "${missing[@]}"
