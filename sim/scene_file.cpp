@@ -179,6 +179,15 @@ class TableReader {
     return s;
   }
 
+  /// Reports `maxKey` unless min < max in every component.
+  void requireIncreasing(const Vec3& lo, const Vec3& hi, const std::string& maxKey, const std::string& minKey) {
+    for (int a = 0; a < 3; ++a)
+      if (!(lo[a] < hi[a])) {
+        r_.problem(node(maxKey), path(maxKey), "must be greater than " + minKey + " in every component");
+        return;
+      }
+  }
+
   const toml::table* table(const std::string& key) {
     const toml::node* n = node(key);
     if (n && !n->is_table()) r_.problem(n, path(key), "expected a table");
@@ -310,9 +319,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     sc.frameRate = scene.number("frame_rate", 30, 0, 1e4, "frames/s", true);
     sc.domainMin = scene.vec3("domain_min", {}, -1e6, 1e6, "m", true);
     sc.domainMax = scene.vec3("domain_max", {}, -1e6, 1e6, "m", true);
-    for (int a = 0; a < 3; ++a)
-      if (!(sc.domainMin[a] < sc.domainMax[a]))
-        r.problem(scene.node("domain_max"), "scene.domain_max", "must be greater than scene.domain_min in every component");
+    scene.requireIncreasing(sc.domainMin, sc.domainMax, "domain_max", "scene.domain_min");
 
     TableReader solver(r, top.table("solver"), "solver");
     if (!top.has("solver")) r.problemAt(1, "solver", "missing [solver] table (at least particle_spacing)");
@@ -345,11 +352,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         s.shape = SolidSpec::Shape::Box;
         s.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
         s.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-        for (int a = 0; a < 3; ++a)
-          if (!(s.min[a] < s.max[a])) {
-            r.problem(t.node("max"), t.path("max"), "must be greater than min in every component");
-            break;
-          }
+        t.requireIncreasing(s.min, s.max, "max", "min");
       } else if (shape == "cylinder") {
         s.shape = SolidSpec::Shape::Cylinder;
         s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
@@ -391,11 +394,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         f.shape = FluidBlockSpec::Shape::Box;
         f.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
         f.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-        for (int a = 0; a < 3; ++a)
-          if (!(f.min[a] < f.max[a])) {
-            r.problem(t.node("max"), t.path("max"), "must be greater than min in every component");
-            break;
-          }
+        t.requireIncreasing(f.min, f.max, "max", "min");
       } else {
         f.shape = FluidBlockSpec::Shape::Sphere;
         f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);

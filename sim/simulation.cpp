@@ -34,6 +34,21 @@ constexpr size_t kGrain = 1024;
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Smallest i < n with pred(i), or -1: the same answer on any thread count.
+template <class F>
+int64_t firstIndexWhere(size_t n, F&& pred) {
+  const int64_t none = std::numeric_limits<int64_t>::max();
+  const int64_t first = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, kGrain), none,
+      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
+        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
+          if (pred(i)) return int64_t(i);
+        return best;
+      },
+      [](int64_t a, int64_t b) { return std::min(a, b); });
+  return first == none ? -1 : first;
+}
+
 template <class F>
 Real parallelMax(size_t n, F&& value) {
   return tbb::parallel_reduce(
@@ -302,16 +317,8 @@ int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& 
     if ((ps_.density[i] - ps_.restDensity[i]) > maxErr * ps_.restDensity[i]) return 3;
     return 0;
   };
-  const int64_t none = std::numeric_limits<int64_t>::max();
-  const int64_t first = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, ps_.size(), kGrain), none,
-      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
-        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
-          if (rule(i)) return int64_t(i);
-        return best;
-      },
-      [](int64_t a, int64_t b) { return std::min(a, b); });
-  if (first == none) return -1;
+  const int64_t first = firstIndexWhere(ps_.size(), [&](size_t i) { return rule(i) != 0; });
+  if (first < 0) return -1;
   const size_t i = size_t(first);
   const PhaseSpec& ph = scene_.phases[ps_.phase[i]];
   switch (rule(i)) {
@@ -337,17 +344,10 @@ int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& 
 void Simulation::checkInputs() const {
   // The solver never leaves a non-finite state behind (the end-of-step check), so one found
   // here was put in from outside: a corrupt checkpoint or a tool editing the particles.
-  const int64_t none = std::numeric_limits<int64_t>::max();
-  const int64_t bad = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, ps_.size(), kGrain), none,
-      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
-        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
-          if (!isFinite(ps_.position[i]) || !isFinite(ps_.velocity[i]) || !std::isfinite(ps_.mass[i]) || !(ps_.mass[i] > 0))
-            return int64_t(i);
-        return best;
-      },
-      [](int64_t a, int64_t b) { return std::min(a, b); });
-  if (bad == none) return;
+  const int64_t bad = firstIndexWhere(ps_.size(), [&](size_t i) {
+    return !isFinite(ps_.position[i]) || !isFinite(ps_.velocity[i]) || !std::isfinite(ps_.mass[i]) || !(ps_.mass[i] > 0);
+  });
+  if (bad < 0) return;
   const size_t i = size_t(bad);
   throw NumericalInstability(fmt::format(
       "invalid input before step {} (t = {:.6g} s): particle id {} of phase \"{}\" has x = ({}, {}, {}), v = ({}, {}, {}), "
