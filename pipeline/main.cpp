@@ -110,7 +110,16 @@ int runSimulation(const Options& opt) {
   const auto loopStart = Clock::now();
   for (int f = startFrame; f <= lastFrame; ++f) {
     const auto s0 = Clock::now();
-    sim.advanceTo(f / scene.frameRate, [&](const mf::Simulation& s) { particleSteps += double(s.particles().size()); });
+    auto lastNote = Clock::now();
+    sim.advanceTo(f / scene.frameRate, [&](const mf::Simulation& s) {
+      particleSteps += double(s.particles().size());
+      // Long frames (large scenes) report inside the frame too, every few seconds.
+      if (seconds(Clock::now() - lastNote) > 5) {
+        lastNote = Clock::now();
+        fmt::print(stderr, "  [frame {:4d}] t = {:.5f} s of {:.5f} s, step {}, dt {:.2e} s\n", f, s.time(), f / scene.frameRate,
+                   s.stepCount(), s.counters().lastDt);
+      }
+    });
     tSim += seconds(Clock::now() - s0);
     writeFrame(f);
     saveCheckpoint(f);
