@@ -85,10 +85,27 @@ struct EffectSpec {
   }
 };
 
+/// What the surfacing stage makes of the particles (read by surfacing/, stored with the scene).
+struct SurfacingSettings {
+  std::vector<uint16_t> phases;    // phases to surface; empty in the file means all
+  Real voxelRatio = 0.5;           // voxel size / particle spacing
+  Real radiusRatio = 0.6;          // Zhu & Bridson particle radius / particle spacing
+  Real searchRatio = 1.5;          // Zhu & Bridson kernel radius / particle spacing
+  int filterRadius = 3;            // bilateral stencil radius, voxels
+  Real filterSpatialSigma = 2.0;   // voxels
+  Real filterRangeSigma = 2.0;     // voxels of distance
+  int filterIterations = 4;
+  bool clipToSolids = true;        // cut each level set where it overlaps a container's walls
+  bool fog = false;                // also a fog-volume copy ("density")
+  bool velocity = false;           // also a velocity grid ("vel") from the particles
+  bool meshPly = false, meshObj = false;
+};
+
 struct Scene {
   std::string name;
   std::string sourceFile;   // where it came from, for messages
-  std::string sourceText;   // the resolved TOML text (overrides applied), for copies and hashes
+  std::string sourceText;   // the resolved TOML text (overrides applied), for copies
+  uint64_t simulationHash = 0;  // hash of the parts the simulation depends on (checkpoint identity)
   Real endTime = 1.0;       // s
   Real frameRate = 30;      // frames per second
   Vec3 domainMin, domainMax;  // particles leaving this box are removed and counted
@@ -97,6 +114,7 @@ struct Scene {
   std::vector<SolidSpec> solids;
   std::vector<FluidBlockSpec> fluids;
   std::vector<EffectSpec> effects;
+  SurfacingSettings surfacing;
 
   int lastFrame() const;  // frames 0 .. lastFrame() at t = f / frameRate
   int phaseIndex(const std::string& name) const;  // -1 if absent

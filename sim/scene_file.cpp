@@ -308,6 +308,13 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     std::ostringstream os;
     os << root;
     sc.sourceText = os.str();
+    // What the simulation depends on: everything but the later stages' settings, so that
+    // re-surfacing with other settings does not invalidate the particles and checkpoints.
+    toml::table simulationPart = root;
+    simulationPart.erase("surfacing");
+    std::ostringstream ss;
+    ss << simulationPart;
+    sc.simulationHash = hashText(ss.str());
   }
   Reader r(sourceName, overridden);
   {
@@ -454,6 +461,47 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           effectsReader.node(std::string(k.str()));  // reported here, not again as unknown key
           r.problem(&v, "effects." + std::string(k.str()), fmt::format("unknown effect; known effects: {}", known));
         }
+    }
+    // [surfacing]: which phases become level sets, and how.
+    {
+      TableReader t(r, top.table("surfacing"), "surfacing");
+      SurfacingSettings& o = sc.surfacing;
+      if (t.has("phases")) {
+        const toml::node* pn = t.node("phases");
+        const toml::array* pa = pn->as_array();
+        if (!pa) r.problem(pn, "surfacing.phases", "expected an array of phase names");
+        else
+          for (const toml::node& e : *pa) {
+            const int pi = sc.phaseIndex(e.value<std::string>().value_or(""));
+            if (pi < 0) r.problem(&e, "surfacing.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
+            else o.phases.push_back(uint16_t(pi));
+          }
+      } else {
+        for (size_t k = 0; k < sc.phases.size(); ++k) o.phases.push_back(uint16_t(k));
+      }
+      o.voxelRatio = t.number("voxel_ratio", 0.5, 0.05, 2, "of the particle spacing");
+      o.radiusRatio = t.number("radius_ratio", 0.6, 0.3, 3, "of the particle spacing");
+      o.searchRatio = t.number("search_ratio", 1.5, 0.5, 6, "of the particle spacing");
+      if (o.searchRatio < o.radiusRatio) r.problem(t.node("search_ratio"), "surfacing.search_ratio", "must be at least surfacing.radius_ratio");
+      o.filterRadius = int(t.number("filter_radius", 3, 0, 5, "voxels"));
+      o.filterSpatialSigma = t.number("filter_spatial_sigma", 2.0, 0, 5, "voxels", true);
+      o.filterRangeSigma = t.number("filter_range_sigma", 2.0, 0, 10, "voxels (0 = plain Gaussian)");
+      o.filterIterations = int(t.number("filter_iterations", 4, 0, 20));
+      o.clipToSolids = t.boolean("clip_to_solids", true);
+      o.fog = t.boolean("fog", false);
+      o.velocity = t.boolean("velocity", false);
+      if (t.has("meshes")) {
+        const toml::node* mn = t.node("meshes");
+        const toml::array* ma = mn->as_array();
+        if (!ma) r.problem(mn, "surfacing.meshes", "expected an array of \"ply\" and/or \"obj\"");
+        else
+          for (const toml::node& e : *ma) {
+            const std::string m = e.value<std::string>().value_or("");
+            if (m == "ply") o.meshPly = true;
+            else if (m == "obj") o.meshObj = true;
+            else r.problem(&e, "surfacing.meshes", "\"" + m + "\" is not one of \"ply\", \"obj\"");
+          }
+      }
     }
   }
   if (!r.problems.empty()) throw SceneError(r.problems);

@@ -453,7 +453,7 @@ void Simulation::saveCheckpoint(const std::string& path, int frame) const {
     std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
     if (!o) throw std::runtime_error("cannot write checkpoint " + tmp);
     o.write(kMagic, 8);
-    put(o, hashText(scene_.sourceText));
+    put(o, scene_.simulationHash);
     put(o, int32_t(frame));
     put(o, time_);
     put(o, nextId_);
@@ -477,7 +477,7 @@ int Simulation::loadCheckpoint(const std::string& path) {
   char magic[8];
   if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
     throw std::runtime_error(path + ": not a multifluid checkpoint");
-  if (get<uint64_t>(in) != hashText(scene_.sourceText))
+  if (get<uint64_t>(in) != scene_.simulationHash)
     throw std::runtime_error(path + ": checkpoint was made from a different scene (or other --set values)");
   const int frame = get<int32_t>(in);
   time_ = get<Real>(in);

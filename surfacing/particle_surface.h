@@ -1,0 +1,41 @@
+// Particles of one fluid to a narrow-band level set: Zhu & Bridson (2005) averaged-position
+// distance (OpenVDB's points::rasterizeSmoothSpheres), a bilateral filter on the distance
+// (bilateral_filter.h), renormalisation to a true distance with a 3-voxel half width, and a cut
+// where the surface bulges through a container wall.
+#pragma once
+
+#include <openvdb/openvdb.h>
+
+#include <string>
+#include <vector>
+
+#include "sim/scene.h"
+
+namespace mf::surfacing {
+
+constexpr double kHalfWidthVoxels = 3.0;
+
+struct ParticleSurface {
+  openvdb::FloatGrid::Ptr levelSet;  // GRID_LEVEL_SET, half width 3 voxels, background 3 voxels
+  openvdb::Vec3SGrid::Ptr velocity;  // closest-particle velocity on the level set's voxels, or null
+};
+
+/// @brief Level set of one fluid's particles.
+/// @param positions        world-space particle positions (m)
+/// @param velocities       their velocities, or empty for no velocity grid
+/// @param particleSpacing  the simulation's particle spacing (m): all sizes are relative to it
+/// @param settings         voxel size, kernel radii and filter widths (scene [surfacing])
+ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
+                                   const std::vector<openvdb::Vec3f>& velocities, double particleSpacing,
+                                   const SurfacingSettings& settings);
+
+/// @brief Cuts the level set where it reaches through a container wall: outside each container,
+/// within `shell` of its surface, the distance becomes max(phi, distance to the container's
+/// interior). Fluid inside a container thus ends at the wall, not a particle radius beyond it.
+void clipToSolids(openvdb::FloatGrid& levelSet, const std::vector<SolidSpec>& solids, double shell);
+
+/// Signed distance to a container's interior (negative inside; exact for boxes and cylinders,
+/// a close bound for surfaces of revolution).
+double containerDistance(const SolidSpec& solid, const openvdb::Vec3d& p);
+
+}  // namespace mf::surfacing

@@ -1,0 +1,95 @@
+#include "surface_frame.h"
+
+#include <fmt/format.h>
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetUtil.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "mesh_io.h"
+#include "particle_surface.h"
+#include "sim/file_util.h"
+#include "sim/particle_io.h"
+
+namespace fs = std::filesystem;
+
+namespace mf::surfacing {
+
+SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& scene, const std::string& surfaceFile,
+                                const std::string& meshDir, int frame) {
+  SurfaceFrameResult result;
+  const SurfacingSettings& s = scene.surfacing;
+  auto meshPath = [&](const std::string& phase, const char* ext) {
+    return (fs::path(meshDir) / fmt::format("{}.{:04d}.{}", phase, frame, ext)).string();
+  };
+  bool complete = fs::exists(surfaceFile);
+  for (uint16_t p : s.phases) {
+    if (s.meshPly) complete &= fs::exists(meshPath(scene.phases[p].name, "ply"));
+    if (s.meshObj) complete &= fs::exists(meshPath(scene.phases[p].name, "obj"));
+  }
+  if (complete) {
+    result.skipped = true;
+    return result;
+  }
+
+  const ParticleFrame particles = readParticleFrame(particleFile);
+  const double spacing = particles.info.particleSpacing > 0 ? particles.info.particleSpacing : scene.solver.particleSpacing;
+  openvdb::GridPtrVec grids;
+  bool firstFog = true, firstVel = true;
+  for (uint16_t p : s.phases) {
+    const std::string& name = scene.phases[p].name;
+    std::vector<openvdb::Vec3d> positions;
+    std::vector<openvdb::Vec3f> velocities;
+    for (size_t i = 0; i < particles.size(); ++i)
+      if (particles.phase[i] == p) {
+        positions.emplace_back(particles.position[i].x, particles.position[i].y, particles.position[i].z);
+        if (s.velocity)
+          velocities.emplace_back(float(particles.velocity[i].x), float(particles.velocity[i].y), float(particles.velocity[i].z));
+      }
+    ParticleSurface surface = particlesToSurface(positions, velocities, spacing, s);
+    if (s.clipToSolids) clipToSolids(*surface.levelSet, scene.solids, s.searchRatio * spacing);
+    surface.levelSet->setName(name);
+    surface.levelSet->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));
+    surface.levelSet->insertMeta("frame", openvdb::Int32Metadata(frame));
+    result.activeVoxels += surface.levelSet->activeVoxelCount();
+    grids.push_back(surface.levelSet);
+    if (s.fog) {
+      // Blender and Houdini look for "density"; further phases get their own name.
+      auto fog = surface.levelSet->deepCopy();
+      openvdb::tools::sdfToFogVolume(*fog);
+      fog->setName(firstFog ? std::string("density") : "density_" + name);
+      firstFog = false;
+      grids.push_back(fog);
+    }
+    if (surface.velocity) {
+      surface.velocity->setName(firstVel ? std::string("vel") : "vel_" + name);
+      firstVel = false;
+      surface.velocity->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
+      grids.push_back(surface.velocity);
+    }
+    if (s.meshPly || s.meshObj) {
+      fs::create_directories(meshDir);
+      const TriangleMesh mesh = levelSetToMesh(*surface.levelSet);
+      if (s.meshPly) {
+        writePly(meshPath(name, "ply"), mesh);
+        result.written.push_back(meshPath(name, "ply"));
+      }
+      if (s.meshObj) {
+        writeObj(meshPath(name, "obj"), mesh);
+        result.written.push_back(meshPath(name, "obj"));
+      }
+    }
+  }
+  std::ostringstream os(std::ios::binary);
+  openvdb::io::Stream(os).write(grids);
+  std::string bytes = os.str();
+  makeVdbUuidDeterministic(bytes);
+  fs::create_directories(fs::path(surfaceFile).parent_path());
+  writeFileAtomically(surfaceFile, bytes);  // last: its presence marks the frame complete
+  result.written.push_back(surfaceFile);
+  return result;
+}
+
+}  // namespace mf::surfacing

@@ -1,0 +1,27 @@
+// One frame through the surfacing stage: particle file in, level sets (and what DCC tools need)
+// out. Frame N depends only on particles.N.vdb and the scene, so frames can be spread over
+// machines and re-run in any order.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/scene.h"
+
+namespace mf::surfacing {
+
+struct SurfaceFrameResult {
+  bool skipped = false;               // output already complete
+  std::vector<std::string> written;   // files written
+  size_t activeVoxels = 0;            // over all level sets
+};
+
+/// Reads `particleFile`, surfaces the scene's [surfacing] phases and writes `surfaceFile`
+/// (one FloatGrid level set per phase, named after it; optional "density" fog copies and "vel"
+/// grids) and, when asked, meshes `meshDir/<phase>.NNNN.ply|obj`. Every file is written under a
+/// temporary name and renamed; if `surfaceFile` exists (and every mesh asked for), nothing is
+/// done.
+SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& scene, const std::string& surfaceFile,
+                                const std::string& meshDir, int frame);
+
+}  // namespace mf::surfacing
