@@ -9,12 +9,14 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "surfacing/surface_frame.h"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -25,14 +27,17 @@ constexpr const char* kDefaultScene = "dam_break";
 
 void usage(std::FILE* to) {
   fmt::print(to,
-             "usage: multifluid [run|sim] [SCENE] [--out DIR] [--frames A-B] [--threads N] [--set key=value]...\n"
+             "usage: multifluid [run] [SCENE] [--out DIR] [--frames A-B] [--stages sim,surface] [--threads N] [--set key=value]...\n"
+             "       multifluid sim|surface SCENE [same options]\n"
              "       multifluid validate SCENE [--set key=value]...\n"
              "       multifluid scenes\n"
              "\n"
              "SCENE is a scene file (TOML) or the name of an embedded scene; with no argument at all the\n"
              "embedded '{}' scene runs into runs/{}. Output: DIR/particles/particles.NNNN.vdb (OpenVDB\n"
-             "points), DIR/scene.toml (the resolved scene), DIR/checkpoint.bin, DIR/run.log.\n"
-             "A re-run with the same scene and DIR resumes from the last checkpoint.\n",
+             "points), DIR/surface/surface.NNNN.vdb (level sets), DIR/mesh/ (if the scene asks for meshes),\n"
+             "DIR/scene.toml (the resolved scene), DIR/checkpoint.bin, DIR/run.log.\n"
+             "A re-run with the same scene and DIR resumes from the last checkpoint; finished surface\n"
+             "frames are skipped. Surfacing frame N needs only particles.N.vdb.\n",
              kDefaultScene, kDefaultScene);
 }
 
@@ -43,6 +48,7 @@ struct Options {
   std::vector<std::string> sets;
   int firstFrame = 0, lastFrame = -1;
   int threads = 0;
+  bool sim = true, surface = true;
 };
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -62,11 +68,8 @@ void writeTextAtomically(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
-int runSimulation(const Options& opt) {
-  const mf::Scene scene = mf::loadScene(opt.scene, opt.sets);
-  const fs::path out = opt.out.empty() ? fs::path("runs") / scene.name : fs::path(opt.out);
+std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::path& out) {
   fs::create_directories(out / "particles");
-  writeTextAtomically(out / "scene.toml", scene.sourceText);
   const int lastFrame = opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
   const fs::path checkpoint = out / "checkpoint.bin";
 
@@ -143,6 +146,52 @@ int runSimulation(const Options& opt) {
       scene.name, opt.threads > 0 ? std::to_string(opt.threads) : "all", tInit, tSim, steps,
       particleSteps > 0 ? tSim * 1e9 / particleSteps : 0.0, tWrite, tCheckpoint, n0, sim.particles().size(),
       c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError);
+  return summary;
+}
+
+std::string runSurfacing(const Options& opt, const mf::Scene& scene, const fs::path& out) {
+  const int lastFrame = opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
+  const auto t0 = Clock::now();
+  int done = 0, skipped = 0, missing = 0;
+  size_t voxels = 0;
+  for (int f = opt.firstFrame; f <= lastFrame; ++f) {
+    const fs::path particles = out / "particles" / fmt::format("particles.{:04d}.vdb", f);
+    if (!fs::exists(particles)) {
+      ++missing;
+      continue;
+    }
+    const auto f0 = Clock::now();
+    const auto r = mf::surfacing::surfaceFrame(particles.string(), scene,
+                                               (out / "surface" / fmt::format("surface.{:04d}.vdb", f)).string(),
+                                               (out / "mesh").string(), f);
+    if (r.skipped) {
+      ++skipped;
+      continue;
+    }
+    ++done;
+    voxels += r.activeVoxels;
+    const double elapsed = seconds(Clock::now() - t0);
+    fmt::print(stderr, "[surface {:4d}/{}] {} phase(s), {} active voxels, {:.2f} s  elapsed {}  left ~{}\n", f, lastFrame,
+               scene.surfacing.phases.size(), r.activeVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
+               formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
+  }
+  const double total = seconds(Clock::now() - t0);
+  if (missing > 0) fmt::print(stderr, "surface: {} frame(s) have no particle file yet (run the sim stage)\n", missing);
+  return fmt::format("  surface       {:>8.2f} s   {} frame(s) surfaced ({:.2f} s each, {:.0f} active voxels each), {} already done\n",
+                     total, done, done > 0 ? total / done : 0.0, done > 0 ? double(voxels) / done : 0.0, skipped);
+}
+
+int runStages(const Options& opt) {
+  const mf::Scene scene = mf::loadScene(opt.scene, opt.sets);
+  const fs::path out = opt.out.empty() ? fs::path("runs") / scene.name : fs::path(opt.out);
+  fs::create_directories(out);
+  writeTextAtomically(out / "scene.toml", scene.sourceText);
+  std::string summary;
+  if (opt.sim) summary += runSimulation(opt, scene, out);
+  if (opt.surface) {
+    if (summary.empty()) summary = fmt::format("\nsummary for {}\n", scene.name);
+    summary += runSurfacing(opt, scene, out);
+  }
   fmt::print(stderr, "{}", summary);
   std::ofstream(out / "run.log", std::ios::app) << summary;
   return 0;
@@ -178,7 +227,11 @@ int main(int argc, char** argv) {
   Options opt;
   std::vector<std::string> args(argv + 1, argv + argc);
   size_t k = 0;
-  if (k < args.size() && (args[k] == "run" || args[k] == "sim" || args[k] == "validate" || args[k] == "scenes")) opt.command = args[k++];
+  if (k < args.size() && (args[k] == "run" || args[k] == "sim" || args[k] == "surface" || args[k] == "validate" ||
+                          args[k] == "scenes"))
+    opt.command = args[k++];
+  if (opt.command == "sim") opt.surface = false;
+  if (opt.command == "surface") opt.sim = false;
   bool haveScene = false;
   for (; k < args.size(); ++k) {
     const std::string& a = args[k];
@@ -201,6 +254,17 @@ int main(int argc, char** argv) {
       if (opt.threads < 1) {
         fmt::print(stderr, "multifluid: --threads must be at least 1\n");
         return 2;
+      }
+    } else if (a == "--stages") {
+      opt.sim = opt.surface = false;
+      std::stringstream ss(value());
+      for (std::string stage; std::getline(ss, stage, ',');) {
+        if (stage == "sim") opt.sim = true;
+        else if (stage == "surface") opt.surface = true;
+        else {
+          fmt::print(stderr, "multifluid: unknown stage '{}' (stages: sim, surface)\n", stage);
+          return 2;
+        }
       }
     } else if (a == "--frames") {
       if (!parseFrames(value(), opt.firstFrame, opt.lastFrame)) {
@@ -228,7 +292,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (opt.command == "validate") return validate(opt);
-    return runSimulation(opt);
+    return runStages(opt);
   } catch (const mf::SceneError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 2;

@@ -33,13 +33,30 @@ for f in "$work"/straight/particles/*.vdb; do
   n=$((n + 1))
 done
 [ "$n" -eq 16 ] || fail "expected 16 frames, compared $n"
+m=0
+for f in "$work"/straight/surface/*.vdb; do
+  cmp -s "$f" "$work/killed/surface/$(basename "$f")" || fail "surface $(basename "$f") differs after kill and resume"
+  m=$((m + 1))
+done
+[ "$m" -eq 16 ] || fail "expected 16 surface frames, compared $m"
 ls "$work/killed/particles" | grep -q '\.tmp$' && fail "temporary files left behind"
-echo "resume: $n frames bit-identical"
+echo "resume: $n particle frames and $m surface frames bit-identical"
 
 # A re-run of a finished output directory computes nothing new and changes nothing.
 cp "$work/straight/particles/$last" "$work/last.vdb"
 "$bin" "${args[@]}" --out "$work/straight" 2> "$work/again.log" || fail "re-run failed"
 cmp -s "$work/last.vdb" "$work/straight/particles/$last" || fail "re-run changed $last"
+
+# The surface stage alone, on frames that exist, with other surfacing settings: it does not
+# touch the simulation's checkpoint (surfacing settings are not part of its identity).
+"$bin" surface dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --set surfacing.voxel_ratio=0.7 \
+  --frames 2-3 --out "$work/straight" 2> "$work/surface.log" || fail "surface stage failed: $(cat "$work/surface.log")"
+grep -q "0 frame(s) surfaced" "$work/surface.log" || fail "finished surface frames were redone"
+rm "$work/straight/surface/surface.0003.vdb"
+"$bin" surface dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --set 'surfacing.meshes=["ply"]' \
+  --frames 3 --out "$work/straight" 2> "$work/surface2.log" || fail "surface stage failed: $(cat "$work/surface2.log")"
+[ -e "$work/straight/surface/surface.0003.vdb" ] && [ -e "$work/straight/mesh/water.0003.ply" ] || fail "surface frame 3 not redone"
+head -c 3 "$work/straight/mesh/water.0003.ply" | grep -q ply || fail "not a PLY file"
 
 # validate: a broken scene gets file, line, key and range; exit status 2.
 cat > "$work/bad.toml" <<'TOML'
