@@ -45,22 +45,52 @@ void bilateralFilter(GridT& grid, int radius, double spatialSigma, double rangeS
         if (r2 > radius * radius) continue;
         taps.push_back({openvdb::Coord(i, j, k), std::exp(-0.5 * r2 / (spatialSigma * spatialSigma))});
       }
-  // exp(-(dv)^2 / (2 (rangeSigma * voxel)^2)); rangeSigma 0 turns the range weight off.
+  // Range weight exp(-q), q = dv^2 / (2 (rangeSigma voxel)^2), from a table (exp was a third of
+  // the run time): 64 entries per unit of q up to q = 16, linear in between (relative error
+  // below 1e-4), exp(-16) beyond. rangeSigma 0 turns the range weight off.
   const double rangeFactor = rangeSigma > 0 ? 0.5 / (rangeSigma * voxel * rangeSigma * voxel) : 0.0;
+  constexpr int kPerUnit = 64, kMaxQ = 16;
+  static const std::vector<double> kExpTable = [] {
+    std::vector<double> t(kPerUnit * kMaxQ + 2);
+    for (size_t i = 0; i < t.size(); ++i) t[i] = std::exp(-double(i) / kPerUnit);
+    return t;
+  }();
+  auto rangeWeight = [&](double q) {
+    const double x = q * kPerUnit;
+    if (x >= kPerUnit * kMaxQ) return kExpTable[kPerUnit * kMaxQ];
+    const int i = int(x);
+    const double f = x - i;
+    return kExpTable[i] + f * (kExpTable[i + 1] - kExpTable[i]);
+  };
+
+  using LeafT = typename TreeT::LeafNodeType;
+  constexpr int kLeafDim = int(LeafT::DIM);
+  const int pad = kLeafDim + 2 * radius;  // each leaf and the stencil's reach around it
+  // Stencil offsets as strides into a leaf's padded copy.
+  std::vector<std::pair<int, double>> strided;
+  for (const Tap& t : taps) strided.emplace_back(t.offset.x() + pad * (t.offset.y() + pad * t.offset.z()), t.weight);
 
   for (int it = 0; it < iterations; ++it) {
     const TreeT source(grid.tree());  // read the previous pass, write this one
     openvdb::tree::LeafManager<TreeT> leaves(grid.tree());
-    leaves.foreach([&](typename TreeT::LeafNodeType& leaf, size_t) {
+    leaves.foreach([&](LeafT& leaf, size_t) {
       openvdb::tree::ValueAccessor<const TreeT> acc(source);
+      // One accessor lookup per voxel of the padded block instead of one per stencil tap.
+      std::vector<double> block(size_t(pad) * pad * pad);
+      const openvdb::Coord origin = leaf.origin() - openvdb::Coord(radius);
+      for (int z = 0; z < pad; ++z)
+        for (int y = 0; y < pad; ++y)
+          for (int x = 0; x < pad; ++x)
+            block[size_t(x + pad * (y + pad * z))] = double(acc.getValue(origin + openvdb::Coord(x, y, z)));
       for (auto v = leaf.beginValueOn(); v; ++v) {
-        const openvdb::Coord ijk = v.getCoord();
-        const double centre = double(acc.getValue(ijk));
+        const openvdb::Coord local = v.getCoord() - leaf.origin();
+        const int c = (local.x() + radius) + pad * ((local.y() + radius) + pad * (local.z() + radius));
+        const double centre = block[size_t(c)];
         double sum = 0, wsum = 0;
-        for (const Tap& t : taps) {
-          const double value = double(acc.getValue(ijk + t.offset));
+        for (const auto& [offset, spatial] : strided) {
+          const double value = block[size_t(c + offset)];
           const double dv = value - centre;
-          const double w = t.weight * std::exp(-rangeFactor * dv * dv);
+          const double w = spatial * rangeWeight(rangeFactor * dv * dv);
           sum += w * value;
           wsum += w;
         }

@@ -61,9 +61,10 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
     out.levelSet = openvdb::points::rasterizeSmoothSpheres(*points, radius, search, band, transform);
   }
   // Zhu & Bridson's field is a distance only near the surface: inside it saturates at -radius
-  // and outside it stops about (search - radius) out. Rebuild a true distance in a band wide
-  // enough for the filter's stencil, filter, then rebuild the final 3-voxel band.
-  const float wide = float(kHalfWidthVoxels + s.filterRadius + 1);
+  // and outside it stops about (search - radius) out. Rebuild a true distance in a band one
+  // voxel wider than the filter's stencil (only values near the zero crossing shape the result),
+  // filter, then rebuild the final 3-voxel band.
+  const float wide = float(s.filterRadius + 1);
   out.levelSet = openvdb::tools::levelSetRebuild(*out.levelSet, 0.0f, wide, wide);
   bilateralFilter(*out.levelSet, s.filterRadius, s.filterSpatialSigma, s.filterRangeSigma, s.filterIterations);
   out.levelSet = openvdb::tools::levelSetRebuild(*out.levelSet, 0.0f, float(kHalfWidthVoxels), float(kHalfWidthVoxels));
