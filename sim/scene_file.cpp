@@ -272,20 +272,20 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
 }
 
 void readSolver(TableReader& s, SolverSettings& o) {
-  o.particleSpacing = s.number("particle_spacing", 0.01, 1e-5, 10, "m", true, true);
-  o.smoothingRatio = s.number("smoothing_ratio", 2.0, 1.2, 4.0);
+  o.particleSpacing = s.number("particle_spacing", o.particleSpacing, 1e-5, 10, "m", true, true);
+  o.smoothingRatio = s.number("smoothing_ratio", o.smoothingRatio, 1.2, 4.0);
   o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number
                                                                                     : DensityFormulation::Mass;
-  o.clampNegativePressure = s.boolean("clamp_negative_pressure", true);
-  o.cfl = s.number("cfl", 0.4, 0, 10, "", true);
-  o.forceFactor = s.number("force_factor", 0.25, 0, 10, "", true);
-  o.maxDt = s.number("max_dt", 1e-3, 1e-9, 1, "s", true);
-  o.minDt = s.number("min_dt", 1e-8, 1e-14, 1, "s", true);
-  o.boundarySpacingRatio = s.number("boundary_spacing_ratio", 0.5, 0.2, 1.5);
-  o.reorderInterval = int(s.number("reorder_interval", 10, 1, 1000));
-  o.maxMoveRatio = s.number("max_move_ratio", 0.5, 0, 4, "", true);
-  o.maxDensityError = s.number("max_density_error", 0.5, 0, 100, "", true);
-  o.maxRetries = int(s.number("max_retries", 6, 0, 40));
+  o.clampNegativePressure = s.boolean("clamp_negative_pressure", o.clampNegativePressure);
+  o.cfl = s.number("cfl", o.cfl, 0, 10, "", true);
+  o.forceFactor = s.number("force_factor", o.forceFactor, 0, 10, "", true);
+  o.maxDt = s.number("max_dt", o.maxDt, 1e-9, 1, "s", true);
+  o.minDt = s.number("min_dt", o.minDt, 1e-14, 1, "s", true);
+  o.boundarySpacingRatio = s.number("boundary_spacing_ratio", o.boundarySpacingRatio, 0.2, 1.5);
+  o.reorderInterval = int(s.number("reorder_interval", o.reorderInterval, 1, 1000));
+  o.maxMoveRatio = s.number("max_move_ratio", o.maxMoveRatio, 0, 4, "", true);
+  o.maxDensityError = s.number("max_density_error", o.maxDensityError, 0, 100, "", true);
+  o.maxRetries = int(s.number("max_retries", o.maxRetries, 0, 40));
 }
 
 }  // namespace
@@ -322,8 +322,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     TableReader scene(r, top.table("scene"), "scene");
     if (!top.has("scene")) r.problemAt(1, "scene", "missing [scene] table (name, end_time, frame_rate, domain_min, domain_max)");
     sc.name = scene.text("name", "unnamed");
-    sc.endTime = scene.number("end_time", 1.0, 0, 1e6, "s", true);
-    sc.frameRate = scene.number("frame_rate", 30, 0, 1e4, "frames/s", true);
+    sc.endTime = scene.number("end_time", sc.endTime, 0, 1e6, "s", true);
+    sc.frameRate = scene.number("frame_rate", sc.frameRate, 0, 1e4, "frames/s", true);
     sc.domainMin = scene.vec3("domain_min", {}, -1e6, 1e6, "m", true);
     sc.domainMax = scene.vec3("domain_max", {}, -1e6, 1e6, "m", true);
     scene.requireIncreasing(sc.domainMin, sc.domainMax, "domain_max", "scene.domain_min");
@@ -340,10 +340,10 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       TableReader t(r, phaseTables[k], fmt::format("phase[{}]", k));
       PhaseSpec p;
       p.name = t.text("name", fmt::format("phase{}", k), {}, true);
-      p.restDensity = t.number("rest_density", 1000, 1e-3, 1e6, "kg/m^3", false, true);
-      p.stiffness = t.number("stiffness", 1000, 0, 1e10, "m^2/s^2", true, true);
-      p.viscosity = t.number("viscosity", 0, 0, 1e7, "Pa s");
-      p.particleMass = t.number("particle_mass", 0, 0, 1e6, "kg (0 = from rest density and spacing)");
+      p.restDensity = t.number("rest_density", p.restDensity, 1e-3, 1e6, "kg/m^3", false, true);
+      p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, true);
+      p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
+      p.particleMass = t.number("particle_mass", p.particleMass, 0, 1e6, "kg (0 = from rest density and spacing)");
       if (sc.phaseIndex(p.name) >= 0) r.problemAt(t.line(), t.path("name"), fmt::format("duplicate phase name \"{}\"", p.name));
       sc.phases.push_back(p);
     }
@@ -479,17 +479,17 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       } else {
         for (size_t k = 0; k < sc.phases.size(); ++k) o.phases.push_back(uint16_t(k));
       }
-      o.voxelRatio = t.number("voxel_ratio", 0.5, 0.05, 2, "of the particle spacing");
-      o.radiusRatio = t.number("radius_ratio", 0.6, 0.3, 3, "of the particle spacing");
-      o.searchRatio = t.number("search_ratio", 1.5, 0.5, 6, "of the particle spacing");
+      o.voxelRatio = t.number("voxel_ratio", o.voxelRatio, 0.05, 2, "of the particle spacing");
+      o.radiusRatio = t.number("radius_ratio", o.radiusRatio, 0.3, 3, "of the particle spacing");
+      o.searchRatio = t.number("search_ratio", o.searchRatio, 0.5, 6, "of the particle spacing");
       if (o.searchRatio < o.radiusRatio) r.problem(t.node("search_ratio"), "surfacing.search_ratio", "must be at least surfacing.radius_ratio");
-      o.filterRadius = int(t.number("filter_radius", 3, 0, 5, "voxels"));
-      o.filterSpatialSigma = t.number("filter_spatial_sigma", 2.0, 0, 5, "voxels", true);
-      o.filterRangeSigma = t.number("filter_range_sigma", 2.0, 0, 10, "voxels (0 = plain Gaussian)");
-      o.filterIterations = int(t.number("filter_iterations", 4, 0, 20));
-      o.clipToSolids = t.boolean("clip_to_solids", true);
-      o.fog = t.boolean("fog", false);
-      o.velocity = t.boolean("velocity", false);
+      o.filterRadius = int(t.number("filter_radius", o.filterRadius, 0, 5, "voxels"));
+      o.filterSpatialSigma = t.number("filter_spatial_sigma", o.filterSpatialSigma, 0, 5, "voxels", true);
+      o.filterRangeSigma = t.number("filter_range_sigma", o.filterRangeSigma, 0, 10, "voxels (0 = plain Gaussian)");
+      o.filterIterations = int(t.number("filter_iterations", o.filterIterations, 0, 20));
+      o.clipToSolids = t.boolean("clip_to_solids", o.clipToSolids);
+      o.fog = t.boolean("fog", o.fog);
+      o.velocity = t.boolean("velocity", o.velocity);
       if (t.has("meshes")) {
         const toml::node* mn = t.node("meshes");
         const toml::array* ma = mn->as_array();
