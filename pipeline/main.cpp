@@ -96,10 +96,25 @@ std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::
   };
 
   int startFrame = 0;
+  auto particleFile = [&](int f) { return out / "particles" / fmt::format("particles.{:04d}.vdb", f); };
+  bool resumed = false;
   if (fs::exists(checkpoint)) {
-    startFrame = sim.loadCheckpoint(checkpoint.string()) + 1;
-    fmt::print(stderr, "resuming {} from its checkpoint at frame {} (t = {:.4f} s)\n", out.string(), startFrame - 1, sim.time());
-  } else {
+    const int checkpointFrame = sim.loadCheckpoint(checkpoint.string());
+    // Frames before the checkpoint that this run asks for must exist (an earlier run may have
+    // written only a later range); otherwise simulate again from the start: same bits.
+    int missing = -1;
+    for (int f = opt.firstFrame; f <= std::min(checkpointFrame, lastFrame) && missing < 0; ++f)
+      if (!fs::exists(particleFile(f))) missing = f;
+    if (missing < 0) {
+      startFrame = checkpointFrame + 1;
+      resumed = true;
+      fmt::print(stderr, "resuming {} from its checkpoint at frame {} (t = {:.4f} s)\n", out.string(), checkpointFrame, sim.time());
+    } else {
+      fmt::print(stderr, "frame {} was never written in {}: simulating again from frame 0\n", missing, out.string());
+      sim = mf::Simulation(scene);
+    }
+  }
+  if (!resumed) {
     writeFrame(0);
     saveCheckpoint(0);
     startFrame = 1;

@@ -127,6 +127,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
 
 Simulation::~Simulation() = default;
 Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
 
 void Simulation::seedFluid() {
   const Real s = scene_.solver.particleSpacing;

@@ -47,6 +47,7 @@ class Simulation {
   explicit Simulation(const Scene& scene);
   ~Simulation();
   Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
 
   const Scene& scene() const { return scene_; }
   const ParticleSet& particles() const { return ps_; }

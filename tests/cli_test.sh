@@ -47,6 +47,14 @@ cp "$work/straight/particles/$last" "$work/last.vdb"
 "$bin" "${args[@]}" --out "$work/straight" 2> "$work/again.log" || fail "re-run failed"
 cmp -s "$work/last.vdb" "$work/straight/particles/$last" || fail "re-run changed $last"
 
+# A later frame range first, then an earlier one: the earlier frames are simulated again
+# (from frame 0) rather than skipped because the checkpoint is past them.
+"$bin" "${args[@]}" --stages sim --frames 10-12 --out "$work/ranges" 2> /dev/null || fail "range run failed"
+[ -e "$work/ranges/particles/particles.0005.vdb" ] && fail "frame 5 written outside --frames 10-12"
+"$bin" "${args[@]}" --stages sim --frames 4-6 --out "$work/ranges" 2> "$work/ranges.log" || fail "second range run failed"
+grep -q "simulating again from frame 0" "$work/ranges.log" || fail "missing earlier frames not noticed"
+cmp -s "$work/ranges/particles/particles.0005.vdb" "$work/straight/particles/particles.0005.vdb" || fail "frame 5 differs"
+
 # The surface stage alone, on frames that exist, with other surfacing settings: it does not
 # touch the simulation's checkpoint (surfacing settings are not part of its identity).
 "$bin" surface dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --set surfacing.voxel_ratio=0.7 \
