@@ -2,7 +2,9 @@
 
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointRasterizeSDF.h>
+#include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/LevelSetTracker.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 
@@ -67,7 +69,24 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
   const float wide = float(s.filterRadius + 1);
   out.levelSet = openvdb::tools::levelSetRebuild(*out.levelSet, 0.0f, wide, wide);
   bilateralFilter(*out.levelSet, s.filterRadius, s.filterSpatialSigma, s.filterRangeSigma, s.filterIterations);
-  out.levelSet = openvdb::tools::levelSetRebuild(*out.levelSet, 0.0f, float(kHalfWidthVoxels), float(kHalfWidthVoxels));
+  {
+    // The filtered field is close to a distance already: a few reinitialisation sweeps and a
+    // trim to 3 voxels cost less than meshing it again.
+    openvdb::tools::LevelSetTracker<openvdb::FloatGrid> tracker(*out.levelSet);
+    tracker.setNormCount(3);
+    tracker.normalize();
+    tracker.resize(int(kHalfWidthVoxels));
+  }
+  // The tracker's band ends on voxel topology, up to a voxel wider: trim to exactly 3 voxels.
+  const float background = float(kHalfWidthVoxels * voxel);
+  openvdb::tree::LeafManager<openvdb::FloatTree>(out.levelSet->tree()).foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+    for (auto v = leaf.beginValueOn(); v; ++v)
+      if (std::fabs(*v) >= background) {
+        v.setValue(*v > 0 ? background : -background);
+        v.setValueOff();
+      }
+  });
+  openvdb::tools::changeLevelSetBackground(out.levelSet->tree(), background);
   out.levelSet->setGridClass(openvdb::GRID_LEVEL_SET);
   openvdb::tools::pruneLevelSet(out.levelSet->tree());
   return out;

@@ -8,6 +8,7 @@
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/LevelSetUtil.h>
 #include <openvdb/tools/Statistics.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <filesystem>
@@ -246,6 +247,24 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   // Complete output is not redone.
   EXPECT_TRUE(mf::surfacing::surfaceFrame(particleFile, scene, surfaceFile, (dir / "mesh").string(), 7).skipped);
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Surfacing, SameBitsOnAnyThreadCount) {
+  const auto points = jitteredBall();
+  std::vector<float> reference;
+  for (int threads : {1, 2, 5}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    const auto ls = mf::surfacing::particlesToSurface(points, {}, kSpacing, defaults()).levelSet;
+    std::vector<float> values;
+    for (auto v = ls->cbeginValueOn(); v; ++v) values.push_back(*v);
+    if (reference.empty()) reference = values;
+    else EXPECT_TRUE(values == reference) << threads << " threads";
+  }
+  EXPECT_GT(reference.size(), 1000u);
 }
 
 }  // namespace
