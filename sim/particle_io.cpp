@@ -7,6 +7,7 @@
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointDataGrid.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -46,6 +47,10 @@ void writeParticleFrame(const std::string& path, const ParticleSet& ps, const Fr
   std::vector<int32_t> phases(n);
   std::vector<float> pscale(n, float(0.5 * info.particleSpacing));
   for (size_t i = 0; i < n; ++i) {
+    // The watchdog keeps invalid states out of the solver; this keeps them out of files too.
+    if (!isFinite(ps.position[i]) || !isFinite(ps.velocity[i]) || !std::isfinite(ps.density[i]))
+      throw std::runtime_error(fmt::format("{}: not written: particle id {} has a non-finite position, velocity or density",
+                                           path, ps.id[i]));
     positions[i] = {ps.position[i].x, ps.position[i].y, ps.position[i].z};
     velocities[i] = {float(ps.velocity[i].x), float(ps.velocity[i].y), float(ps.velocity[i].z)};
     ids[i] = int64_t(ps.id[i]);

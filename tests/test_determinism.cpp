@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 
 #include <cstring>
+#include <limits>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -128,6 +129,14 @@ TEST(ParticleFiles, ReadBackWithOpenVdbsOwnFileReader) {
     EXPECT_NE(d.find(name), openvdb::points::AttributeSet::INVALID_POS) << name;
   EXPECT_EQ(d.find("temperature"), openvdb::points::AttributeSet::INVALID_POS);  // not in this scene
   EXPECT_EQ(openvdb::points::pointCount(grid->tree()), sim.particles().size());
+
+  // A non-finite value never reaches a file, whoever produced it.
+  mf::ParticleSet broken = sim.particles();
+  broken.velocity[3].x = std::numeric_limits<double>::infinity();
+  const fs::path bad = dir / "particles.0002.vdb";
+  EXPECT_THROW(mf::writeParticleFrame(bad.string(), broken, infoFor(sim, 2)), std::runtime_error);
+  EXPECT_FALSE(fs::exists(bad));
+  EXPECT_FALSE(fs::exists(bad.string() + ".tmp"));
 
   // And through our reader: every particle, matched by id, at its position (float precision).
   const mf::ParticleFrame frame = mf::readParticleFrame(file.string());
