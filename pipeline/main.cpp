@@ -68,9 +68,17 @@ void writeTextAtomically(const fs::path& path, const std::string& text) {
   fs::rename(tmp, path);
 }
 
+// The output layout, in one place.
+fs::path particleFile(const fs::path& out, int f) { return out / "particles" / fmt::format("particles.{:04d}.vdb", f); }
+fs::path surfaceFile(const fs::path& out, int f) { return out / "surface" / fmt::format("surface.{:04d}.vdb", f); }
+
+int lastFrameToRun(const Options& opt, const mf::Scene& scene) {
+  return opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
+}
+
 std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::path& out) {
   fs::create_directories(out / "particles");
-  const int lastFrame = opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
+  const int lastFrame = lastFrameToRun(opt, scene);
   const fs::path checkpoint = out / "checkpoint.bin";
 
   const auto t0 = Clock::now();
@@ -86,7 +94,7 @@ std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::
     const auto w0 = Clock::now();
     info.frame = f;
     info.time = sim.time();
-    mf::writeParticleFrame((out / "particles" / fmt::format("particles.{:04d}.vdb", f)).string(), sim.particles(), info);
+    mf::writeParticleFrame(particleFile(out, f).string(), sim.particles(), info);
     tWrite += seconds(Clock::now() - w0);
   };
   auto saveCheckpoint = [&](int f) {
@@ -96,7 +104,6 @@ std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::
   };
 
   int startFrame = 0;
-  auto particleFile = [&](int f) { return out / "particles" / fmt::format("particles.{:04d}.vdb", f); };
   bool resumed = false;
   if (fs::exists(checkpoint)) {
     const int checkpointFrame = sim.loadCheckpoint(checkpoint.string());
@@ -104,7 +111,7 @@ std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::
     // written only a later range); otherwise simulate again from the start: same bits.
     int missing = -1;
     for (int f = opt.firstFrame; f <= std::min(checkpointFrame, lastFrame) && missing < 0; ++f)
-      if (!fs::exists(particleFile(f))) missing = f;
+      if (!fs::exists(particleFile(out, f))) missing = f;
     if (missing < 0) {
       startFrame = checkpointFrame + 1;
       resumed = true;
@@ -165,19 +172,19 @@ std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::
 }
 
 std::string runSurfacing(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  const int lastFrame = opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
+  const int lastFrame = lastFrameToRun(opt, scene);
   const auto t0 = Clock::now();
   int done = 0, skipped = 0, missing = 0;
   size_t voxels = 0;
   for (int f = opt.firstFrame; f <= lastFrame; ++f) {
-    const fs::path particles = out / "particles" / fmt::format("particles.{:04d}.vdb", f);
+    const fs::path particles = particleFile(out, f);
     if (!fs::exists(particles)) {
       ++missing;
       continue;
     }
     const auto f0 = Clock::now();
     const auto r = mf::surfacing::surfaceFrame(particles.string(), scene,
-                                               (out / "surface" / fmt::format("surface.{:04d}.vdb", f)).string(),
+                                               surfaceFile(out, f).string(),
                                                (out / "mesh").string(), f);
     if (r.skipped) {
       ++skipped;
