@@ -39,19 +39,37 @@ class Effect {
   virtual AttributeMask requiredAttributes() const { return 0; }
   /// Adds this effect's force (N) to particles.force.
   virtual void accumulateForces(const StepContext& ctx, ParticleSet& particles) = 0;
-  /// The largest stable time step this effect allows (s).
+  /// The largest stable time step this effect allows (s); called after accumulateForces.
   virtual Real maxTimeStep(const StepContext&, const ParticleSet&) const {
     return std::numeric_limits<Real>::infinity();
   }
+  /// Advances non-mechanical state (temperature, dye, rest density) over the accepted step dt,
+  /// from rates computed in accumulateForces at the step's start (explicit Euler). Called once
+  /// per step after the watchdog has accepted the motion, in registry order.
+  virtual void advance(const StepContext&, ParticleSet&, Real /*dt*/) {}
+  /// Sets derived state once after seeding (e.g. rest density from the start temperature).
+  virtual void prepare(ParticleSet&) {}
 };
 
 /// One parameter of an effect as the scene file gives it.
 struct EffectParam {
   std::string key;
-  int components = 1;         // 1 (number) or 3 (vector)
+  int components = 1;         // 1 (number) or 3 (vector); or, with phaseNames > 0, that many names
   Real lo = -1e300, hi = 1e300;  // allowed range of each component, inclusive
-  std::vector<Real> defaults;
+  std::vector<Real> defaults; // empty: the key is required
   std::string unit, doc;
+  int phaseNames = 0;         // 1: a phase name ("water"); 2: a pair (["water", "oil"]); stored as indices
+
+  EffectParam(std::string k, int comps, Real low, Real high, std::vector<Real> defs, std::string u, std::string d,
+              int names = 0)
+      : key(std::move(k)), components(comps), lo(low), hi(high), defaults(std::move(defs)), unit(std::move(u)),
+        doc(std::move(d)), phaseNames(names) {}
+};
+
+/// A list of entries of an effect, [[effects.NAME.KEY]] in the scene file (heat sources, pairs).
+struct EffectList {
+  std::string key, doc;
+  std::vector<EffectParam> params;
 };
 
 struct EffectInfo {
@@ -59,6 +77,14 @@ struct EffectInfo {
   std::string doc;
   std::vector<EffectParam> params;
   std::function<std::unique_ptr<Effect>(const EffectSpec&, const Scene&)> create;
+  std::vector<EffectList> lists;
+  std::vector<std::string> phaseKeys;  // [[phase]] keys this effect reads (for the reference and checks)
+
+  using Factory = std::function<std::unique_ptr<Effect>(const EffectSpec&, const Scene&)>;
+  EffectInfo(std::string n, std::string d, std::vector<EffectParam> p, Factory c, std::vector<EffectList> l = {},
+             std::vector<std::string> keys = {})
+      : name(std::move(n)), doc(std::move(d)), params(std::move(p)), create(std::move(c)), lists(std::move(l)),
+        phaseKeys(std::move(keys)) {}
 };
 
 /// Every effect the simulator knows, in the order the step loop runs them.

@@ -76,6 +76,7 @@ void writeParticleFrame(const std::string& path, const ParticleSet& ps, const Fr
   if (ps.has(Attribute::Temperature)) addScalar("temperature", ps.temperature);
   if (ps.has(Attribute::InterfaceColour)) addScalar("interfaceColour", ps.interfaceColour);
   if (ps.has(Attribute::SurfaceColour)) addScalar("surfaceColour", ps.surfaceColour);
+  if (ps.has(Attribute::Dye)) addScalar("dye", ps.dye);
 
   grid->insertMeta("time", openvdb::DoubleMetadata(info.time));
   grid->insertMeta("frame", openvdb::Int32Metadata(info.frame));

@@ -10,6 +10,7 @@ void ParticleSet::enable(AttributeMask mask) {
   if (has(Attribute::InterfaceColour)) interfaceColour.resize(n, 0);
   if (has(Attribute::SurfaceColour)) surfaceColour.resize(n, 1);
   if (has(Attribute::Temperature)) temperature.resize(n, 0);
+  if (has(Attribute::Dye)) dye.resize(n, 0);
 }
 
 void ParticleSet::reserve(size_t n) {
@@ -32,6 +33,7 @@ void ParticleSet::append(uint64_t newId, const ParticleInit& p) {
   if (has(Attribute::InterfaceColour)) interfaceColour.push_back(p.interfaceColour);
   if (has(Attribute::SurfaceColour)) surfaceColour.push_back(p.surfaceColour);
   if (has(Attribute::Temperature)) temperature.push_back(p.temperature);
+  if (has(Attribute::Dye)) dye.push_back(p.dye);
 }
 
 void ParticleSet::permute(const std::vector<uint32_t>& order) {

@@ -17,6 +17,7 @@ enum class Attribute : uint32_t {
   InterfaceColour = 1u << 0,  // c_i, immiscible-fluid colour (interface tension)
   SurfaceColour = 1u << 1,    // c_s, liquid = 1, gas = 0 (surface tension)
   Temperature = 1u << 2,      // T in degrees Celsius
+  Dye = 1u << 3,              // a passive concentration (dimensionless) that can diffuse
 };
 using AttributeMask = uint32_t;
 constexpr AttributeMask bit(Attribute a) { return static_cast<AttributeMask>(a); }
@@ -26,7 +27,7 @@ struct ParticleInit {
   uint16_t phase = 0;
   Vec3 position, velocity;
   Real mass = 0, restDensity = 0, viscosity = 0, stiffness = 0;
-  Real interfaceColour = 0, surfaceColour = 1, temperature = 0;
+  Real interfaceColour = 0, surfaceColour = 1, temperature = 0, dye = 0;
 };
 
 struct ParticleSet {
@@ -47,6 +48,7 @@ struct ParticleSet {
   std::vector<Real> interfaceColour;
   std::vector<Real> surfaceColour;
   std::vector<Real> temperature;
+  std::vector<Real> dye;
 
   AttributeMask attributes = 0;
 
@@ -81,6 +83,7 @@ struct ParticleSet {
     if (has(Attribute::InterfaceColour)) f("interfaceColour", interfaceColour);
     if (has(Attribute::SurfaceColour)) f("surfaceColour", surfaceColour);
     if (has(Attribute::Temperature)) f("temperature", temperature);
+    if (has(Attribute::Dye)) f("dye", dye);
   }
 
   /// Bytes held by all arrays (capacity), for memory reports and tests.

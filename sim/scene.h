@@ -18,6 +18,15 @@ struct PhaseSpec {
   Real stiffness = 1000;     // k in P = k (rho - rho0), m^2/s^2 (speed of sound c = sqrt(k))
   Real viscosity = 0;        // mu, Pa s, mixed pairwise as (mu_i + mu_j) / 2 (eq. 9)
   Real particleMass = 0;     // kg; 0: chosen so that a particle on the seeding lattice has rho0
+  // Material constants read by the effects that use them (ignored, and reported by the scene
+  // reader, when that effect is not enabled).
+  Real interfaceColour = 0;       // c_i of this fluid (interface_tension); e.g. water -0.5, oil +0.5
+  Real surfaceColour = 1;         // c_s: 1 liquid, 0 gas (surface_tension)
+  Real surfaceTension = 0;        // sigma_s, N/m (surface_tension)
+  Real thermalDiffusivity = 0;    // alpha in dT/dt = alpha lap T, m^2/s (heat_diffusion)
+  Real dyeDiffusivity = 0;        // m^2/s (dye_diffusion)
+  Real thermalExpansion = 0;      // beta, 1/K: rho0(T) = rho0 / (1 + beta (T - T_ref)) (thermal_expansion)
+  Real referenceTemperature = 20; // T_ref, deg C, where rest_density holds
 };
 
 /// A container or obstacle, sampled as boundary particles (Akinci et al. 2012).
@@ -49,6 +58,8 @@ struct FluidBlockSpec {
   std::vector<Real> fractions;
   uint64_t seed = 1;
   Real jitter = 0;           // random displacement, fraction of the particle spacing
+  Real temperature = 20;     // initial temperature, deg C (allocated only if an effect uses it)
+  Real dye = 0;              // initial dye concentration (dye_diffusion)
 };
 
 enum class DensityFormulation {
@@ -74,14 +85,24 @@ struct SolverSettings {
   int maxRetries = 6;
 };
 
-/// Parameters of one enabled effect: numbers and vectors by key, with defaults filled in.
-struct EffectSpec {
-  std::string name;
+/// Numbers and vectors by key, with defaults filled in; phase names are stored as phase indices.
+struct ParamValues {
   std::map<std::string, std::vector<Real>> params;
   Real number(const std::string& key) const { return params.at(key).at(0); }
   Vec3 vector(const std::string& key) const {
     const auto& v = params.at(key);
     return {v.at(0), v.at(1), v.at(2)};
+  }
+};
+
+/// Parameters of one enabled effect, and its lists of entries ([[effects.NAME.LIST]]).
+struct EffectSpec : ParamValues {
+  std::string name;
+  std::map<std::string, std::vector<ParamValues>> lists;
+  const std::vector<ParamValues>& list(const std::string& key) const {
+    static const std::vector<ParamValues> none;
+    auto it = lists.find(key);
+    return it == lists.end() ? none : it->second;
   }
 };
 

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
@@ -288,6 +290,37 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.maxRetries = int(s.number("max_retries", o.maxRetries, 0, 40));
 }
 
+/// One effect parameter into `out`: a number, a vector, or phase names (stored as indices).
+void readEffectParam(Reader& r, TableReader& t, const EffectParam& p, const Scene& sc, ParamValues& out) {
+  const bool required = p.defaults.empty();
+  if (p.phaseNames > 0) {
+    std::vector<Real> indices(size_t(p.phaseNames), -1);
+    const toml::node* n = t.node(p.key);
+    std::vector<std::string> names;
+    if (n && p.phaseNames == 1 && n->is_string()) names.push_back(*n->value<std::string>());
+    if (n && p.phaseNames > 1 && n->is_array())
+      for (const toml::node& e : *n->as_array()) names.push_back(e.value<std::string>().value_or(""));
+    std::string known;
+    for (const auto& ph : sc.phases) known += (known.empty() ? "\"" : ", \"") + ph.name + "\"";
+    const std::string what = p.phaseNames == 1 ? "a phase name" : fmt::format("an array of {} phase names", p.phaseNames);
+    if (!n) {
+      if (required) r.problemAt(t.line(), t.path(p.key), fmt::format("missing; {} (defined: {})", what, known));
+    } else if (names.size() != size_t(p.phaseNames)) {
+      r.problem(n, t.path(p.key), fmt::format("expected {} (defined: {})", what, known));
+    } else {
+      for (size_t k = 0; k < names.size(); ++k) {
+        indices[k] = sc.phaseIndex(names[k]);
+        if (indices[k] < 0) r.problem(n, t.path(p.key), fmt::format("unknown phase \"{}\"; defined: {}", names[k], known));
+      }
+    }
+    out.params[p.key] = indices;
+    return;
+  }
+  const std::vector<Real> def = required ? std::vector<Real>(size_t(p.components), 0) : p.defaults;
+  if (p.components == 1) out.params[p.key] = {t.number(p.key, def.at(0), p.lo, p.hi, p.unit, false, required)};
+  else out.params[p.key] = t.numbers(p.key, size_t(p.components), def, p.lo, p.hi, p.unit, required);
+}
+
 }  // namespace
 
 Scene parseScene(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
@@ -333,6 +366,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     readSolver(solver, sc.solver);
     if (sc.solver.minDt > sc.solver.maxDt) r.problem(solver.node("min_dt"), "solver.min_dt", "must not exceed solver.max_dt");
 
+    std::map<std::string, std::vector<std::pair<int, std::string>>> phaseKeyLines;  // effect-specific [[phase]] keys given, and where
     const auto phaseTables = top.tables("phase");
     if (phaseTables.empty()) r.problemAt(1, "phase", "at least one [[phase]] is required");
     if (phaseTables.size() > 65535) r.problemAt(1, "phase", "at most 65535 phases");
@@ -344,6 +378,16 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, true);
       p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
       p.particleMass = t.number("particle_mass", p.particleMass, 0, 1e6, "kg (0 = from rest density and spacing)");
+      p.interfaceColour = t.number("interface_colour", p.interfaceColour, -10, 10);
+      p.surfaceColour = t.number("surface_colour", p.surfaceColour, 0, 1, "(1 liquid, 0 gas)");
+      p.surfaceTension = t.number("surface_tension", p.surfaceTension, 0, 1e4, "N/m");
+      p.thermalDiffusivity = t.number("thermal_diffusivity", p.thermalDiffusivity, 0, 10, "m^2/s");
+      p.dyeDiffusivity = t.number("dye_diffusivity", p.dyeDiffusivity, 0, 10, "m^2/s");
+      p.thermalExpansion = t.number("thermal_expansion", p.thermalExpansion, 0, 1, "1/K");
+      p.referenceTemperature = t.number("reference_temperature", p.referenceTemperature, -273.15, 1e4, "deg C");
+      for (const char* key : {"interface_colour", "surface_colour", "surface_tension", "thermal_diffusivity",
+                              "dye_diffusivity", "thermal_expansion", "reference_temperature"})
+        if (t.has(key)) phaseKeyLines[key].push_back({int(t.node(key)->source().begin.line), t.path(key)});
       if (sc.phaseIndex(p.name) >= 0) r.problemAt(t.line(), t.path("name"), fmt::format("duplicate phase name \"{}\"", p.name));
       sc.phases.push_back(p);
     }
@@ -410,6 +454,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       f.velocity = t.vec3("velocity", {}, -1e4, 1e4, "m/s");
       f.seed = uint64_t(t.number("seed", 1, 0, 9.0e15));
       f.jitter = t.number("jitter", 0, 0, 0.5, "of the particle spacing");
+      f.temperature = t.number("temperature", f.temperature, -273.15, 1e4, "deg C");
+      f.dye = t.number("dye", f.dye, -1e6, 1e6);
       std::vector<std::string> names;
       if (t.has("phase")) {
         names.push_back(t.text("phase", ""));
@@ -448,9 +494,16 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         if (!t.boolean("enabled", true)) continue;
         EffectSpec spec;
         spec.name = info.name;
-        for (const EffectParam& p : info.params) {
-          if (p.components == 1) spec.params[p.key] = {t.number(p.key, p.defaults.at(0), p.lo, p.hi, p.unit)};
-          else spec.params[p.key] = t.numbers(p.key, size_t(p.components), p.defaults, p.lo, p.hi, p.unit);
+        for (const EffectParam& p : info.params) readEffectParam(r, t, p, sc, spec);
+        for (const EffectList& l : info.lists) {
+          auto& entries = spec.lists[l.key];
+          const auto tables = t.tables(l.key);
+          for (size_t k = 0; k < tables.size(); ++k) {
+            TableReader e(r, tables[k], fmt::format("effects.{}.{}[{}]", info.name, l.key, k));
+            ParamValues values;
+            for (const EffectParam& p : l.params) readEffectParam(r, e, p, sc, values);
+            entries.push_back(values);
+          }
         }
         sc.effects.push_back(spec);
       }
@@ -461,6 +514,18 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           effectsReader.node(std::string(k.str()));  // reported here, not again as unknown key
           r.problem(&v, "effects." + std::string(k.str()), fmt::format("unknown effect; known effects: {}", known));
         }
+    }
+    // A material constant that no enabled effect reads is most likely a forgotten [effects.X].
+    for (const auto& [key, lines] : phaseKeyLines) {
+      bool used = false;
+      std::string users;
+      for (const EffectInfo& info : effectRegistry())
+        if (std::find(info.phaseKeys.begin(), info.phaseKeys.end(), key) != info.phaseKeys.end()) {
+          users += (users.empty() ? "[effects." : " or [effects.") + info.name + "]";
+          used |= sc.effect(info.name) != nullptr;
+        }
+      if (!used)
+        for (const auto& [line, path] : lines) r.problemAt(line, path, "has no effect unless " + users + " is enabled");
     }
     // [surfacing]: which phases become level sets, and how.
     {

@@ -122,6 +122,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   ps_.enable(attributes);
 
   seedFluid();
+  for (const auto& e : effects_) e->prepare(ps_);
   refresh();
 }
 
@@ -172,6 +173,10 @@ void Simulation::seedFluid() {
           p.mass = ph.particleMass > 0 ? ph.particleMass : ph.restDensity / latticeSum;
           p.viscosity = ph.viscosity;
           p.stiffness = ph.stiffness;
+          p.interfaceColour = ph.interfaceColour;
+          p.surfaceColour = ph.surfaceColour;
+          p.temperature = f.temperature;
+          p.dye = f.dye;
           candidates.push_back(p);
         }
   }
@@ -406,6 +411,13 @@ Real Simulation::step(Real maxDt) {
     }
     dt *= 0.5;
     ++counters_.retries;
+  }
+  // Non-mechanical state (temperature, dye, rest density) from the rates of the step's start.
+  {
+    const auto t0 = Clock::now();
+    const StepContext ctx = context();
+    for (const auto& e : effects_) e->advance(ctx, ps_, dt);
+    times_.integrate += since(t0);
   }
   time_ += dt;
   ++counters_.steps;

@@ -11,5 +11,10 @@ EffectInfo gravityInfo();
 EffectInfo pressureInfo();
 EffectInfo viscosityInfo();
 EffectInfo dampingInfo();
+EffectInfo interfaceTensionInfo();
+EffectInfo surfaceTensionInfo();
+EffectInfo heatDiffusionInfo();
+EffectInfo dyeDiffusionInfo();
+EffectInfo thermalExpansionInfo();
 
 }  // namespace mf::effects

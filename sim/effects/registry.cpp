@@ -8,7 +8,12 @@ const std::vector<EffectInfo>& effectRegistry() {
       effects::gravityInfo(),
       effects::pressureInfo(),
       effects::viscosityInfo(),
+      effects::interfaceTensionInfo(),
+      effects::surfaceTensionInfo(),
       effects::dampingInfo(),
+      effects::heatDiffusionInfo(),
+      effects::dyeDiffusionInfo(),
+      effects::thermalExpansionInfo(),
   };
   return registry;
 }
