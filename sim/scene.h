@@ -60,6 +60,7 @@ struct FluidBlockSpec {
   Real jitter = 0;           // random displacement, fraction of the particle spacing
   Real temperature = 20;     // initial temperature, deg C (allocated only if an effect uses it)
   Real dye = 0;              // initial dye concentration (dye_diffusion)
+  int insideSolid = -1;      // if >= 0: only lattice points inside this container are seeded
 };
 
 enum class DensityFormulation {

@@ -454,6 +454,16 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       f.velocity = t.vec3("velocity", {}, -1e4, 1e4, "m/s");
       f.seed = uint64_t(t.number("seed", 1, 0, 9.0e15));
       f.jitter = t.number("jitter", 0, 0, 0.5, "of the particle spacing");
+      if (t.has("inside")) {
+        const std::string solid = t.text("inside", "");
+        for (size_t k2 = 0; k2 < sc.solids.size(); ++k2)
+          if (sc.solids[k2].name == solid) f.insideSolid = int(k2);
+        if (f.insideSolid < 0) {
+          std::string known;
+          for (const auto& so : sc.solids) known += (known.empty() ? "\"" : ", \"") + so.name + "\"";
+          r.problem(t.node("inside"), t.path("inside"), fmt::format("unknown solid \"{}\"; defined: {}", solid, known));
+        }
+      }
       f.temperature = t.number("temperature", f.temperature, -273.15, 1e4, "deg C");
       f.dye = t.number("dye", f.dye, -1e6, 1e6);
       std::vector<std::string> names;

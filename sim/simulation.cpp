@@ -159,6 +159,7 @@ void Simulation::seedFluid() {
             x += Vec3(uniform01(rngBase + 1) - 0.5, uniform01(rngBase + 2) - 0.5, uniform01(rngBase + 3) - 0.5) *
                  (2 * f.jitter * s);
           if (f.shape == FluidBlockSpec::Shape::Sphere && lengthSquared(x - f.centre) > f.radius * f.radius) continue;
+          if (f.insideSolid >= 0 && !insideFluidRegion(scene_.solids[size_t(f.insideSolid)], x)) continue;
           size_t pick = 0;
           if (f.phases.size() > 1) {
             const Real u = uniform01(rngBase) * cumulative;
