@@ -66,7 +66,7 @@ TEST(SceneFile, EveryProblemIsReported) {
   std::string text = replaceLine(kGood, "frame_rate = 30", "frame_rate = \"fast\"");
   text = replaceLine(text, "phase = \"water\"", "phase = \"oil\"");
   text = replaceLine(text, "particle_spacing = 0.05", "particle_spacing = 0.05\ncfll = 0.3");
-  text += "[effects.surface_tension]\n";
+  text += "[effects.vorticity]\n";
   const auto p = problemsOf(text);
   ASSERT_EQ(p.size(), 4u);
   std::string all;
@@ -74,7 +74,7 @@ TEST(SceneFile, EveryProblemIsReported) {
   EXPECT_NE(all.find("bad.toml:4: key 'scene.frame_rate': expected a number"), std::string::npos) << all;
   EXPECT_NE(all.find("key 'solver.cfll': unknown key"), std::string::npos) << all;
   EXPECT_NE(all.find("key 'fluid[0].phase': unknown phase \"oil\"; defined: \"water\""), std::string::npos) << all;
-  EXPECT_NE(all.find("key 'effects.surface_tension': unknown effect; known effects: gravity, pressure"), std::string::npos) << all;
+  EXPECT_NE(all.find("key 'effects.vorticity': unknown effect; known effects: gravity, pressure"), std::string::npos) << all;
 }
 
 TEST(SceneFile, SyntaxErrorHasLine) {
