@@ -63,25 +63,15 @@ Real parallelMax(size_t n, F&& value) {
 }  // namespace
 
 Real latticeKernelSum(const SphKernels& K, Real s) {
-  const int n = int(std::ceil(K.h / s)) + 1;
-  Real sum = 0;
-  for (int k = -n; k <= n; ++k)
-    for (int j = -n; j <= n; ++j)
-      for (int i = -n; i <= n; ++i) sum += K.poly6Checked(s * s * Real(i * i + j * j + k * k));
-  return sum;
+  return sumOverRestLattice(K, s, [&](int i, int j, int k) { return K.poly6Checked(s * s * Real(i * i + j * j + k * k)); });
 }
 
 Real latticeGradientMoment(const SphKernels& K, Real s) {
   const Real volume = 1.0 / latticeKernelSum(K, s);
-  const int n = int(std::ceil(K.h / s)) + 1;
-  Real m = 0;
-  for (int k = -n; k <= n; ++k)
-    for (int j = -n; j <= n; ++j)
-      for (int i = -n; i <= n; ++i) {
-        const Vec3 xj(i * s, j * s, k * s);  // neighbour; particle i at the origin
-        m += volume * xj.y * K.spikyGrad(-xj, length(xj)).y;
-      }
-  return m;
+  return sumOverRestLattice(K, s, [&](int i, int j, int k) {
+    const Vec3 xj(i * s, j * s, k * s);  // neighbour; particle i at the origin
+    return volume * xj.y * K.spikyGrad(-xj, length(xj)).y;
+  });
 }
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {

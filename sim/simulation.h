@@ -4,6 +4,7 @@
 // It knows no scene: what happens to particles is decided by the effects a scene enables.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -107,6 +108,19 @@ class Simulation {
   SimulationCounters counters_;
   StageTimes times_;
 };
+
+/// sum of f(i, j, k) over the integer offsets of a cubic lattice that can reach within h of
+/// the origin (|i|, |j|, |k| <= ceil(h/s) + 1), in a fixed order: the one loop behind every
+/// rest-lattice calibration (kernel sum, gradient moment, Laplacian moments of the effects).
+template <class F>
+Real sumOverRestLattice(const SphKernels& kernels, Real spacing, F&& f) {
+  const int n = int(std::ceil(kernels.h / spacing)) + 1;
+  Real sum = 0;
+  for (int k = -n; k <= n; ++k)
+    for (int j = -n; j <= n; ++j)
+      for (int i = -n; i <= n; ++i) sum += f(i, j, k);
+  return sum;
+}
 
 /// Sum over a cubic lattice of spacing s of W_poly6 within h (includes the centre): the
 /// number density of a particle inside a uniform block. Used to give seeded particles a mass

@@ -46,14 +46,10 @@ class Diffusion final : public Effect {
     const SphKernels& K = ctx.kernels;
     if (normH_ != K.h) {
       const Real s = spacing_, V = 1.0 / latticeKernelSum(K, s);
-      const int m = int(std::ceil(K.h / s)) + 1;
-      Real moment = 0;
-      for (int a = -m; a <= m; ++a)
-        for (int b = -m; b <= m; ++b)
-          for (int c = -m; c <= m; ++c) {
-            const Real r = s * std::sqrt(Real(a * a + b * b + c * c));
-            moment += V * (a * s) * (a * s) * K.viscosityLaplacian(r);
-          }
+      const Real moment = sumOverRestLattice(K, s, [&](int a, int b, int c) {
+        const Real r = s * std::sqrt(Real(a * a + b * b + c * c));
+        return V * (a * s) * (a * s) * K.viscosityLaplacian(r);
+      });
       norm_ = 2.0 / moment;
       normH_ = K.h;
     }

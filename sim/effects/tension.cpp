@@ -230,14 +230,10 @@ class SurfaceTension final : public Effect {
     if (lapResidual_ != lapResidual_ || residualH_ != K.h) {
       // sum_j V lap W over the rest lattice, self included: zero for an exact Laplacian.
       const Real s = spacing_, V = 1.0 / latticeKernelSum(K, s);
-      const int m = int(std::ceil(K.h / s)) + 1;
-      Real sum = 0;
-      for (int a = -m; a <= m; ++a)
-        for (int b = -m; b <= m; ++b)
-          for (int c = -m; c <= m; ++c) {
-            const Real r2 = s * s * Real(a * a + b * b + c * c);
-            if (r2 < K.h2) sum += V * D.lap(r2);
-          }
+      const Real sum = sumOverRestLattice(K, s, [&](int a, int b, int c) {
+        const Real r2 = s * s * Real(a * a + b * b + c * c);
+        return r2 < K.h2 ? V * D.lap(r2) : 0.0;
+      });
       lapResidual_ = sum;
       residualH_ = K.h;
     }
