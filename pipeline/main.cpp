@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/report.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -248,6 +249,14 @@ bool parseFrames(const std::string& s, int& a, int& b) {
 int main(int argc, char** argv) {
   Options opt;
   std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args[0] == "report") {
+    try {
+      return mf::report::runReportCommand(std::vector<std::string>(args.begin() + 1, args.end()));
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "multifluid report: {}\n", e.what());
+      return 1;
+    }
+  }
   size_t k = 0;
   if (k < args.size() && (args[k] == "run" || args[k] == "sim" || args[k] == "surface" || args[k] == "validate" ||
                           args[k] == "scenes"))

@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config ccache
   libopenvdb-dev libtbb-dev libboost-iostreams-dev libeigen3-dev libfmt-dev libtomlplusplus-dev
-  libembree-dev libosmesa6-dev
+  libembree-dev libosmesa6-dev libopenimageio-dev
+  ffmpeg gnuplot-nox
   libgtest-dev libbenchmark-dev
 )
 missing=()
