@@ -123,6 +123,45 @@ struct SurfacingSettings {
   bool meshPly = false, meshObj = false;
 };
 
+/// How a phase or a solid looks (read by render/). Units: coefficients per metre, radiance
+/// relative (1 = a white sky's brightness).
+struct MaterialSpec {
+  enum class Kind {
+    Dielectric,  // clear: Fresnel reflection and refraction, Beer-Lambert absorption inside
+    Medium,      // translucent: a dielectric boundary around a scattering medium (wax)
+    Diffuse,     // opaque Lambertian
+    Emitter,     // opaque, glowing
+  };
+  Kind kind = Kind::Dielectric;
+  Real ior = 1.33;
+  Vec3 absorption;            // sigma_a per RGB channel, 1/m
+  Real scattering = 0;        // sigma_s, 1/m (Medium), isotropic
+  Vec3 colour{0.8, 0.8, 0.8}; // Diffuse albedo
+  Vec3 emission;              // Emitter radiance; for a Medium, radiance emitted per metre
+  int priority = 10;          // nested dielectrics: where volumes overlap, the higher one wins
+  Real thickness = 0.004;     // solids: wall thickness, m (glass)
+  bool visible = true;        // solids: drawn at all
+};
+
+/// The render stage's camera, lights and materials.
+struct RenderSettings {
+  int width = 480, height = 270;
+  int samples = 16;                 // paths per pixel
+  int maxDepth = 16;                // bounces per path
+  std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
+  Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
+  Real fov = 40;                    // vertical, degrees
+  Vec3 skyZenith{0.35, 0.45, 0.65}, skyHorizon{1.0, 1.0, 1.0};
+  Vec3 lightPosition;               // a spherical area light
+  Real lightRadius = 0;             // m; 0: no light but the sky
+  Vec3 lightEmission{20, 19, 17};
+  bool floor = true;                // a table top at floorHeight
+  Real floorHeight = 0;
+  Real checkerSize = 0.05;          // m; 0: plain
+  std::vector<MaterialSpec> phaseMaterials;  // one per phase
+  std::vector<MaterialSpec> solidMaterials;  // one per solid
+};
+
 struct Scene {
   std::string name;
   std::string sourceFile;   // where it came from, for messages
@@ -137,6 +176,7 @@ struct Scene {
   std::vector<FluidBlockSpec> fluids;
   std::vector<EffectSpec> effects;
   SurfacingSettings surfacing;
+  RenderSettings render;
 
   int lastFrame() const;  // frames 0 .. lastFrame() at t = f / frameRate
   int phaseIndex(const std::string& name) const;  // -1 if absent
