@@ -386,6 +386,7 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.height = int(t.number("height", o.height, 8, 16384, "pixels"));
   o.samples = int(t.number("samples", o.samples, 1, 1e5, "per pixel"));
   o.maxDepth = int(t.number("max_depth", o.maxDepth, 1, 1000, "bounces"));
+  o.indirectClamp = t.number("indirect_clamp", o.indirectClamp, 0, 1e9, "(relative radiance; 0 = off)");
   if (t.has("phases")) {
     const toml::node* pn = t.node("phases");
     const toml::array* pa = pn->as_array();
@@ -410,7 +411,6 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.lightRadius = t.number("light_radius", o.lightRadius, 0, 1e6, "m");
   o.lightEmission = t.vec3("light_emission", o.lightEmission, 0, 1e9, "(relative radiance)");
   o.floor = t.boolean("floor", o.floor);
-  o.floorHeight = t.number("floor_height", o.floorHeight, -1e6, 1e6, "m");
   o.checkerSize = t.number("checker_size", o.checkerSize, 0, 1e6, "m");
   if (const toml::table* mt = t.table("material")) {
     TableReader materials(r, mt, "render.material");
@@ -434,6 +434,16 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
       }
     }
   }
+  // Default table top: under the lowest solid's outer wall, or the domain's floor.
+  o.floorHeight = sc.domainMin.y;
+  for (size_t j = 0; j < sc.solids.size(); ++j) {
+    const SolidSpec& s = sc.solids[j];
+    const Real bottom = s.shape == SolidSpec::Shape::Box ? s.min.y
+                        : s.shape == SolidSpec::Shape::Cylinder ? s.base.y
+                                                                : s.base.y + (s.profile.empty() ? 0 : s.profile.front().first);
+    o.floorHeight = std::min(o.floorHeight, bottom - o.solidMaterials[j].thickness);
+  }
+  o.floorHeight = t.number("floor_height", o.floorHeight, -1e6, 1e6, "m");
 }
 
 }  // namespace

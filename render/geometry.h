@@ -1,0 +1,34 @@
+// Triangle meshes for the ray tracer: the fluids' level sets (via surfacing's mesher) and the
+// scene's solids as thick glass walls. Each mesh is closed and wound counter-clockwise seen from
+// outside its material, so that the geometric normal says whether a ray enters or leaves.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <openvdb/openvdb.h>
+
+#include "sim/scene.h"
+
+namespace mf::render {
+
+struct Float3 {
+  float x = 0, y = 0, z = 0;
+};
+
+struct RenderMesh {
+  std::vector<Float3> positions;
+  std::vector<Float3> normals;  // per vertex, unit, outward (smooth shading)
+  std::vector<std::array<uint32_t, 3>> triangles;
+  size_t size() const { return triangles.size(); }
+};
+
+/// The zero crossing of a level set; vertex normals from the distance gradient.
+RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet);
+
+/// A container's wall of the given thickness around its fluid region (outside it), with
+/// smooth normals on curved parts and sharp edges at corners.
+RenderMesh solidMesh(const SolidSpec& solid, Real thickness, int segments = 128);
+
+}  // namespace mf::render

@@ -1,0 +1,110 @@
+#include "image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include <Imath/half.h>
+
+namespace fs = std::filesystem;
+
+namespace mf::render {
+
+float linearToSrgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, const Image& image) {
+  const std::string ext = lowerExtension(path);
+  const fs::path target(path);
+  // The temporary keeps the extension: OpenImageIO picks the format from it.
+  const fs::path tmp = target.parent_path() / (target.stem().string() + ".tmp" + ext);
+  auto out = OIIO::ImageOutput::create(tmp.string());
+  if (!out) throw std::runtime_error("cannot write " + path + ": " + OIIO::geterror());
+  const size_t n = size_t(image.width) * image.height * 3;
+  bool ok = false;
+  if (ext == ".png") {
+    std::vector<unsigned char> bytes(n);
+    for (size_t i = 0; i < n; ++i) bytes[i] = (unsigned char)std::lround(255.0f * linearToSrgb(image.rgb[i]));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  } else {
+    // Half floats: what compositors expect of beauty passes, and half the size.
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
+    spec.attribute("oiio:ColorSpace", "Linear");
+    spec.attribute("compression", "zip");
+    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+  }
+  const std::string error = out->geterror();
+  ok = out->close() && ok;
+  if (!ok) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path + ": " + error);
+  }
+  fs::rename(tmp, target);
+}
+
+Image readImage(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw std::runtime_error("cannot read image " + path + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.nchannels < 3) throw std::runtime_error(path + ": expected an RGB image");
+  Image image(spec.width, spec.height);
+  std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
+    throw std::runtime_error("cannot read image " + path + ": " + in->geterror());
+  const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float v = all[p * spec.nchannels + c];
+      image.rgb[p * 3 + c] = srgb ? srgbToLinear(v) : v;
+    }
+  in->close();
+  return image;
+}
+
+ImageDiff compareImages(const Image& a, const Image& b, double failThreshold, Image* difference) {
+  ImageDiff d;
+  if (a.width != b.width || a.height != b.height) {
+    d.sizeMismatch = true;
+    return d;
+  }
+  d.pixels = size_t(a.width) * a.height;
+  if (difference) *difference = Image(a.width, a.height);
+  double sum = 0, sum2 = 0;
+  for (size_t p = 0; p < d.pixels; ++p) {
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double e = std::abs(double(linearToSrgb(a.rgb[p * 3 + c])) - linearToSrgb(b.rgb[p * 3 + c]));
+      worst = std::max(worst, e);
+      sum += e;
+      sum2 += e * e;
+      if (difference) difference->rgb[p * 3 + c] = float(e);
+    }
+    d.maxError = std::max(d.maxError, worst);
+    if (worst > failThreshold) ++d.failedPixels;
+  }
+  d.meanError = sum / (3.0 * d.pixels);
+  d.rmsError = std::sqrt(sum2 / (3.0 * d.pixels));
+  return d;
+}
+
+}  // namespace mf::render

@@ -1,0 +1,535 @@
+#include "path_tracer.h"
+
+#include <embree3/rtcore.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+
+namespace mf::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// PCG32 (O'Neill 2014): small state, good statistics, cheap to seed per pixel sample.
+class Rng {
+ public:
+  Rng(uint64_t a, uint64_t b, uint64_t c) {
+    state_ = splitmix(a * 0x9E3779B97F4A7C15ull ^ splitmix(b ^ splitmix(c)));
+    inc_ = (splitmix(state_ + c) << 1) | 1;
+    next();
+  }
+  double uniform() { return (next() >> 8) * (1.0 / 16777216.0); }  // [0, 1), 24 bits
+
+ private:
+  static uint64_t splitmix(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+  }
+  uint32_t next() {
+    const uint64_t old = state_;
+    state_ = old * 6364136223846793005ull + inc_;
+    const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
+    const uint32_t rot = uint32_t(old >> 59u);
+    return (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
+  }
+  uint64_t state_, inc_;
+};
+
+Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+Vec3 expNeg(const Vec3& sigma, Real d) { return {std::exp(-sigma.x * d), std::exp(-sigma.y * d), std::exp(-sigma.z * d)}; }
+Real maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// An orthonormal frame around n (Duff et al. 2017).
+void basis(const Vec3& n, Vec3& t, Vec3& b) {
+  const Real s = std::copysign(1.0, n.z), a = -1.0 / (s + n.z), c = n.x * n.y * a;
+  t = {1 + s * n.x * n.x * a, s * c, -s * n.x};
+  b = {c, s + n.y * n.y * a, -n.y};
+}
+
+Vec3 cosineHemisphere(const Vec3& n, Rng& rng) {
+  const Real u1 = rng.uniform(), u2 = rng.uniform(), r = std::sqrt(u1), phi = 2 * M_PI * u2;
+  Vec3 t, b;
+  basis(n, t, b);
+  return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1)));
+}
+
+Vec3 uniformSphere(Rng& rng) {
+  const Real z = 1 - 2 * rng.uniform(), r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * rng.uniform();
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+/// Unpolarised Fresnel reflectance for a dielectric interface.
+Real fresnel(Real cosi, Real cost, Real n1, Real n2) {
+  const Real rs = (n1 * cosi - n2 * cost) / (n1 * cosi + n2 * cost);
+  const Real rp = (n1 * cost - n2 * cosi) / (n1 * cost + n2 * cosi);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+/// The volumes a ray is inside, as material indices; the one with the highest priority is the
+/// medium the ray travels in (ties: the last entered).
+struct MediumStack {
+  static constexpr int kMax = 16;
+  int entries[kMax];
+  int size = 0;
+
+  int top(const std::vector<MaterialSpec>& m) const {
+    int best = -1;
+    for (int i = 0; i < size; ++i)
+      if (best < 0 || m[entries[i]].priority >= m[best].priority) best = entries[i];
+    return best;
+  }
+  int topPriority(const std::vector<MaterialSpec>& m) const {
+    const int t = top(m);
+    return t < 0 ? -1 : m[t].priority;
+  }
+  void push(int material) {
+    if (size < kMax) entries[size++] = material;
+  }
+  void remove(int material) {  // the last entry of that material
+    for (int i = size - 1; i >= 0; --i)
+      if (entries[i] == material) {
+        for (int j = i; j + 1 < size; ++j) entries[j] = entries[j + 1];
+        --size;
+        return;
+      }
+  }
+  bool contains(int material) const {
+    for (int i = 0; i < size; ++i)
+      if (entries[i] == material) return true;
+    return false;
+  }
+};
+
+struct Hit {
+  enum Kind { None, Mesh, Floor, Light } kind = None;
+  Real t = 0;
+  int material = -1;
+  Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
+};
+
+}  // namespace
+
+struct PathTracer::Impl {
+  RenderSettings settings;
+  std::vector<Surface> surfaces;
+  std::vector<MaterialSpec> materials;  // one per surface (geometry id)
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  Real epsilon = 1e-5;  // ray offset, m: relative to the scene's size
+  Vec3 camU, camV, camW;  // right, up, forward
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  void build() {
+    device = rtcNewDevice(nullptr);
+    if (!device) throw std::runtime_error("Embree: cannot create a device");
+    scene = rtcNewScene(device);
+    // Robust traversal: refracted rays must not leak through shared edges of a mesh.
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    Vec3 lo{1e30, 1e30, 1e30}, hi{-1e30, -1e30, -1e30};
+    for (size_t g = 0; g < surfaces.size(); ++g) {
+      const RenderMesh& m = surfaces[g].mesh;
+      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), std::max<size_t>(m.positions.size(), 1)));
+      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(unsigned), m.triangles.size()));
+      for (size_t i = 0; i < m.positions.size(); ++i) {
+        v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
+        lo = cwiseMin(lo, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
+        hi = cwiseMax(hi, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
+      }
+      for (size_t i = 0; i < m.triangles.size(); ++i)
+        for (int k = 0; k < 3; ++k) idx[3 * i + k] = m.triangles[i][k];
+      rtcCommitGeometry(geom);
+      rtcAttachGeometryByID(scene, geom, unsigned(g));
+      rtcReleaseGeometry(geom);
+      materials.push_back(surfaces[g].material);
+    }
+    rtcCommitScene(scene);
+    if (hi.x > lo.x) epsilon = std::max(1e-6, 2e-5 * length(hi - lo));
+    camW = normalize(settings.lookAt - settings.cameraPosition);
+    camU = normalize(cross(camW, Vec3{0, 1, 0}));
+    if (lengthSquared(camU) == 0) camU = {1, 0, 0};
+    camV = cross(camU, camW);
+  }
+
+  Vec3 sky(const Vec3& d) const {
+    if (d.y < 0) return settings.skyHorizon * 0.25;  // below the horizon: a dim ground
+    const Real t = std::sqrt(d.y);
+    return settings.skyHorizon * (1 - t) + settings.skyZenith * t;
+  }
+
+  Vec3 floorAlbedo(const Vec3& p) const {
+    if (settings.checkerSize <= 0) return {0.6, 0.6, 0.6};
+    const long i = long(std::floor(p.x / settings.checkerSize)) + long(std::floor(p.z / settings.checkerSize));
+    return (i & 1) ? Vec3{0.15, 0.15, 0.15} : Vec3{0.75, 0.75, 0.75};
+  }
+
+  Real intersectLight(const Vec3& o, const Vec3& d) const {
+    if (settings.lightRadius <= 0) return -1;
+    const Vec3 oc = o - settings.lightPosition;
+    const Real b = dot(oc, d), c = dot(oc, oc) - settings.lightRadius * settings.lightRadius, disc = b * b - c;
+    if (disc < 0) return -1;
+    const Real s = std::sqrt(disc);
+    const Real t0 = -b - s, t1 = -b + s;
+    return t0 > epsilon ? t0 : (t1 > epsilon ? t1 : -1);
+  }
+
+  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, uint64_t& rays, std::vector<RecordedRay>* record) const {
+    Hit hit;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+    rh.ray.tnear = 0;
+    rh.ray.tfar = float(std::min(tfar, 1e30));
+    rh.ray.mask = 0xFFFFFFFF;
+    rh.ray.flags = 0;
+    rh.ray.time = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, 0, rh.ray.tfar});
+    rtcIntersect1(scene, &context, &rh);
+    ++rays;
+    Real best = tfar;
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
+      best = rh.ray.tfar;
+      hit.kind = Hit::Mesh;
+      hit.t = best;
+      hit.material = int(rh.hit.geomID);
+      const RenderMesh& m = surfaces[rh.hit.geomID].mesh;
+      const auto& tri = m.triangles[rh.hit.primID];
+      const Vec3 a{m.positions[tri[0]].x, m.positions[tri[0]].y, m.positions[tri[0]].z};
+      const Vec3 b{m.positions[tri[1]].x, m.positions[tri[1]].y, m.positions[tri[1]].z};
+      const Vec3 c{m.positions[tri[2]].x, m.positions[tri[2]].y, m.positions[tri[2]].z};
+      hit.ng = normalize(cross(b - a, c - a));
+      const Real u = rh.hit.u, v = rh.hit.v;
+      const auto& na = m.normals[tri[0]], &nb = m.normals[tri[1]], &nc = m.normals[tri[2]];
+      hit.ns = normalize(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
+      if (dot(hit.ns, hit.ng) <= 0) hit.ns = hit.ng;
+    }
+    if (settings.floor && d.y < 0 && o.y > settings.floorHeight) {
+      const Real t = (settings.floorHeight - o.y) / d.y;
+      if (t > epsilon && t < best) {
+        best = t;
+        hit.kind = Hit::Floor;
+        hit.t = t;
+        hit.ng = hit.ns = {0, 1, 0};
+      }
+    }
+    const Real tl = intersectLight(o, d);
+    if (tl > 0 && tl < best) {
+      hit.kind = Hit::Light;
+      hit.t = tl;
+    }
+    if (hit.kind != Hit::None) hit.p = o + d * hit.t;
+    return hit;
+  }
+
+  /// Transmittance towards a light sample through clear volumes (a transparent-shadow
+  /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
+  /// of media block light by their extinction.
+  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, MediumStack stack, uint64_t& rays,
+                     std::vector<RecordedRay>* record) const {
+    Vec3 T{1, 1, 1};
+    for (int crossing = 0; crossing < 32; ++crossing) {
+      const Hit h = intersect(o, d, dist, rays, record);
+      const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
+      const int medium = stack.top(materials);
+      if (medium >= 0) {
+        const MaterialSpec& m = materials[medium];
+        T = mul(T, expNeg(m.absorption + Vec3{m.scattering, m.scattering, m.scattering}, seg));
+      }
+      if (h.kind == Hit::None || h.kind == Hit::Light) return T;
+      if (h.kind == Hit::Floor) return {};
+      const MaterialSpec& m = materials[h.material];
+      if (m.kind == MaterialSpec::Kind::Diffuse || m.kind == MaterialSpec::Kind::Emitter) return {};
+      if (dot(d, h.ng) < 0) stack.push(h.material);
+      else stack.remove(h.material);
+      if (maxComponent(T) < 1e-4) return {};
+      o = h.p + d * epsilon;
+      dist -= h.t + epsilon;
+      if (dist <= 0) return T;
+    }
+    return T;
+  }
+
+  /// Light from the spherical lamp at p with a cosine (surface) or isotropic (medium) lobe.
+  Vec3 directLight(const Vec3& p, const Vec3* normal, const MediumStack& stack, Rng& rng, uint64_t& rays,
+                   std::vector<RecordedRay>* record) const {
+    if (settings.lightRadius <= 0) return {};
+    const Vec3 toCentre = settings.lightPosition - p;
+    const Real d2 = lengthSquared(toCentre), r2 = settings.lightRadius * settings.lightRadius;
+    if (d2 <= r2) return {};
+    // Uniform sampling of the cone the sphere subtends.
+    const Real cosMax = std::sqrt(1 - r2 / d2);
+    const Real u1 = rng.uniform(), u2 = rng.uniform();
+    const Real cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT)), phi = 2 * M_PI * u2;
+    const Vec3 w = toCentre / std::sqrt(d2);
+    Vec3 t, b;
+    basis(w, t, b);
+    const Vec3 dir = normalize(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + w * cosT);
+    const Real pdf = 1 / (2 * M_PI * (1 - cosMax));
+    Real lobe;  // BSDF or phase function times cosine
+    if (normal) {
+      const Real c = dot(*normal, dir);
+      if (c <= 0) return {};
+      lobe = c / M_PI;
+    } else {
+      lobe = 1 / (4 * M_PI);
+    }
+    const Real tl = intersectLight(p, dir);
+    if (tl <= 0) return {};
+    const Vec3 T = transmittance(p, dir, tl, stack, rays, record);
+    return mul(T, settings.lightEmission) * (lobe / pdf);
+  }
+
+  Vec3 trace(Vec3 o, Vec3 d, Rng& rng, uint64_t& rays, std::vector<RecordedRay>* record) const {
+    Vec3 L, throughput{1, 1, 1};
+    MediumStack stack;
+    bool lightCounted = false;  // a direct-light estimate already covered this path's next light hit
+    bool indirect = false;      // past a diffuse or scattering vertex
+    int bounces = 0, passes = 0;
+    // Light reached after a diffuse vertex through specular chains (caustics) has huge variance
+    // at a few samples; like Cycles' "clamp indirect", cap such contributions.
+    auto add = [&](const Vec3& c) {
+      const Real m = maxComponent(c);
+      L += indirect && m > settings.indirectClamp && settings.indirectClamp > 0 ? c * (settings.indirectClamp / m) : c;
+    };
+    while (bounces < settings.maxDepth) {
+      const Hit h = intersect(o, d, 1e30, rays, record);
+      const int medium = stack.top(materials);
+      if (medium >= 0) {
+        const MaterialSpec& m = materials[medium];
+        const Real seg = h.kind == Hit::None ? 1e30 : h.t;
+        if (m.kind == MaterialSpec::Kind::Medium && m.scattering > 0) {
+          // Free flight by the scattering coefficient; absorption weights the segment.
+          const Real s = -std::log(1 - rng.uniform()) / m.scattering;
+          if (s < seg) {
+            throughput = mul(throughput, expNeg(m.absorption, s));
+            add(mul(throughput, m.emission) * s);
+            const Vec3 p = o + d * s;
+            add(mul(throughput, directLight(p, nullptr, stack, rng, rays, record)));
+            indirect = true;
+            lightCounted = true;
+            o = p;
+            d = uniformSphere(rng);
+            ++bounces;
+            if (!russianRoulette(throughput, bounces, rng)) break;
+            continue;
+          }
+        }
+        if (seg < 1e30) {
+          add(mul(throughput, m.emission) * seg);
+          throughput = mul(throughput, expNeg(m.absorption, seg));
+        }
+      }
+      if (h.kind == Hit::None) {
+        add(mul(throughput, sky(d)));
+        break;
+      }
+      if (h.kind == Hit::Light) {
+        if (!lightCounted) add(mul(throughput, settings.lightEmission));
+        break;
+      }
+      if (h.kind == Hit::Floor) {
+        add(mul(throughput, diffuseBounce(h, floorAlbedo(h.p), o, d, stack, rng, rays, record)));
+        indirect = true;
+        throughput = mul(throughput, floorAlbedo(h.p));
+        lightCounted = true;
+        ++bounces;
+        if (!russianRoulette(throughput, bounces, rng)) break;
+        continue;
+      }
+      const MaterialSpec& m = materials[h.material];
+      if (m.kind == MaterialSpec::Kind::Emitter) {
+        add(mul(throughput, m.emission));
+        break;
+      }
+      if (m.kind == MaterialSpec::Kind::Diffuse) {
+        Hit facing = h;
+        if (dot(d, h.ng) > 0) facing.ng = -h.ng, facing.ns = -h.ns;
+        add(mul(throughput, diffuseBounce(facing, m.colour, o, d, stack, rng, rays, record)));
+        indirect = true;
+        throughput = mul(throughput, m.colour);
+        lightCounted = true;
+        ++bounces;
+        if (!russianRoulette(throughput, bounces, rng)) break;
+        continue;
+      }
+      // A dielectric boundary (clear liquid, glass, bubble, or a medium's surface).
+      const bool entering = dot(d, h.ng) < 0;
+      const int current = stack.top(materials);
+      const bool real = entering ? m.priority >= stack.topPriority(materials)
+                                 : (stack.contains(h.material) && current == h.material) || !stack.contains(h.material);
+      if (!real) {
+        // Inside a volume of higher priority: this boundary does not exist there.
+        if (entering) stack.push(h.material);
+        else stack.remove(h.material);
+        o = h.p + d * epsilon;
+        if (++passes > 64) break;
+        continue;
+      }
+      MediumStack after = stack;
+      if (entering) after.push(h.material);
+      else after.remove(h.material);
+      const int outsideMedium = entering ? current : after.top(materials);
+      const Real n1 = entering ? (current >= 0 ? materials[current].ior : 1.0) : m.ior;
+      const Real n2 = entering ? m.ior : (outsideMedium >= 0 ? materials[outsideMedium].ior : 1.0);
+      const Vec3 incidentSide = entering ? h.ng : -h.ng;  // geometric normal on the ray's side
+      Vec3 n = entering ? h.ns : -h.ns;
+      Real cosi = -dot(d, n);
+      if (cosi <= 0) n = incidentSide, cosi = -dot(d, n);
+      const Real eta = n1 / n2, sin2t = eta * eta * std::max(0.0, 1 - cosi * cosi);
+      Real F = 1, cost = 0;
+      if (sin2t < 1) {
+        cost = std::sqrt(1 - sin2t);
+        F = fresnel(cosi, cost, n1, n2);
+      }
+      Vec3 next;
+      bool reflect = rng.uniform() < F;
+      if (!reflect) {
+        next = normalize(d * eta + n * (eta * cosi - cost));
+        if (dot(next, incidentSide) >= 0) reflect = true;  // shading normal bent it back
+      }
+      if (reflect) {
+        next = normalize(d + n * (2 * cosi));
+        if (dot(next, incidentSide) <= 0) next = normalize(d + incidentSide * (-2 * dot(d, incidentSide)));
+        o = h.p + incidentSide * epsilon;
+        lightCounted = false;  // reflections are not covered by the transparent shadow rays
+      } else {
+        stack = after;
+        o = h.p - incidentSide * epsilon;
+      }
+      d = next;
+      ++bounces;
+      if (!russianRoulette(throughput, bounces, rng)) break;
+    }
+    return L;
+  }
+
+  Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Rng& rng,
+                     uint64_t& rays, std::vector<RecordedRay>* record) const {
+    const Vec3 p = h.p + h.ng * epsilon;
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, stack, rng, rays, record));
+    o = p;
+    d = cosineHemisphere(h.ns, rng);
+    if (dot(d, h.ng) <= 0) d = cosineHemisphere(h.ng, rng);
+    return direct;
+  }
+
+  static bool russianRoulette(Vec3& throughput, int bounces, Rng& rng) {
+    if (bounces < 4) return true;
+    const Real q = std::min(0.95, maxComponent(throughput));
+    if (q <= 0 || rng.uniform() >= q) return false;
+    throughput *= 1 / q;
+    return true;
+  }
+};
+
+PathTracer::PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings) : impl_(std::make_unique<Impl>()) {
+  impl_->settings = settings;
+  impl_->surfaces = std::move(surfaces);
+  impl_->build();
+}
+
+PathTracer::~PathTracer() = default;
+
+size_t PathTracer::triangleCount() const {
+  size_t n = 0;
+  for (const auto& s : impl_->surfaces) n += s.mesh.size();
+  return n;
+}
+
+Image PathTracer::render(int frame, RenderStats* stats, const std::function<void(int, int)>& progress,
+                         std::vector<RecordedRay>* record) const {
+  const Impl& im = *impl_;
+  const RenderSettings& s = im.settings;
+  Image image(s.width, s.height);
+  const auto t0 = Clock::now();
+  tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
+  tbb::combinable<std::vector<RecordedRay>> recorded;
+  std::atomic<int> rowsDone{0};
+  std::mutex progressMutex;
+  const Real tanHalf = std::tan(0.5 * s.fov * M_PI / 180), aspect = Real(s.width) / s.height;
+  // One row per task: pixels are independent, so the schedule cannot change any value.
+  tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
+    uint64_t& count = rays.local();
+    std::vector<RecordedRay>* rec = record ? &recorded.local() : nullptr;
+    for (int y = rows.begin(); y < rows.end(); ++y) {
+      for (int x = 0; x < s.width; ++x) {
+        Vec3 sum;
+        for (int k = 0; k < s.samples; ++k) {
+          Rng rng(uint64_t(frame) + 1, uint64_t(y) * uint64_t(s.width) + x, uint64_t(k));
+          const Real px = (2 * (x + rng.uniform()) / s.width - 1) * tanHalf * aspect;
+          const Real py = (1 - 2 * (y + rng.uniform()) / s.height) * tanHalf;
+          const Vec3 d = normalize(im.camW + im.camU * px + im.camV * py);
+          Vec3 c = im.trace(s.cameraPosition, d, rng, count, rec);
+          if (!isFinite(c)) c = {};
+          sum += c;
+        }
+        image.set(x, y, sum / Real(s.samples));
+      }
+      const int done = ++rowsDone;
+      if (progress) {
+        std::lock_guard<std::mutex> lock(progressMutex);
+        progress(done, s.height);
+      }
+    }
+  });
+  if (stats) {
+    stats->rays = rays.combine(std::plus<uint64_t>());
+    stats->seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  }
+  if (record) recorded.combine_each([&](const std::vector<RecordedRay>& r) { record->insert(record->end(), r.begin(), r.end()); });
+  return image;
+}
+
+double PathTracer::traceBare(const std::vector<RecordedRay>& rays) const {
+  const auto t0 = Clock::now();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = r.begin(); i < r.end(); ++i) {
+      RTCRayHit rh;
+      rh.ray.org_x = rays[i].org[0], rh.ray.org_y = rays[i].org[1], rh.ray.org_z = rays[i].org[2];
+      rh.ray.dir_x = rays[i].dir[0], rh.ray.dir_y = rays[i].dir[1], rh.ray.dir_z = rays[i].dir[2];
+      rh.ray.tnear = rays[i].tnear;
+      rh.ray.tfar = rays[i].tfar;
+      rh.ray.mask = 0xFFFFFFFF;
+      rh.ray.flags = 0;
+      rh.ray.time = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(impl_->scene, &context, &rh);
+    }
+  });
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+std::vector<Surface> solidSurfaces(const Scene& scene) {
+  std::vector<Surface> out;
+  for (size_t i = 0; i < scene.solids.size(); ++i) {
+    const MaterialSpec& m = scene.render.solidMaterials.at(i);
+    if (!m.visible) continue;
+    out.push_back({scene.solids[i].name.empty() ? "solid" : scene.solids[i].name, solidMesh(scene.solids[i], m.thickness), m});
+  }
+  return out;
+}
+
+}  // namespace mf::render

@@ -1,0 +1,65 @@
+// A path tracer for liquids in glass: nested dielectrics with priorities (Schmidt & Budge 2002,
+// as production renderers resolve overlapping volumes), Fresnel reflection and refraction,
+// Beer-Lambert absorption, a homogeneous scattering medium for wax, diffuse table and walls,
+// a spherical area light sampled directly and a sky. Embree 3 finds the hits; TBB runs tiles.
+//
+// Deterministic: each pixel sample draws from its own random sequence keyed by (frame, pixel,
+// sample), and pixels are independent, so the image bits do not depend on the thread count.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "geometry.h"
+#include "image.h"
+#include "sim/scene.h"
+
+namespace mf::render {
+
+/// One closed surface and what is inside it.
+struct Surface {
+  std::string name;
+  RenderMesh mesh;
+  MaterialSpec material;
+};
+
+struct RenderStats {
+  uint64_t rays = 0;          // every ray cast into the scene (camera, bounce, shadow)
+  double seconds = 0;         // wall time of the image
+  double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
+};
+
+/// A recorded ray, to time bare traversal on exactly the rays the shader cast.
+struct RecordedRay {
+  float org[3], dir[3], tnear, tfar;
+};
+
+class PathTracer {
+ public:
+  PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings);
+  ~PathTracer();
+  PathTracer(const PathTracer&) = delete;
+  PathTracer& operator=(const PathTracer&) = delete;
+
+  /// Renders the image. `progress(done, total)` is called now and then with completed rows
+  /// (from any thread, serialised). `record`: keep every ray cast (for benchmarks).
+  Image render(int frame, RenderStats* stats = nullptr,
+               const std::function<void(int, int)>& progress = {},
+               std::vector<RecordedRay>* record = nullptr) const;
+
+  /// Casts `rays` with plain rtcIntersect1 and nothing else; returns wall seconds.
+  double traceBare(const std::vector<RecordedRay>& rays) const;
+
+  size_t triangleCount() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The scene's solids as glass (or what their material says), ready for PathTracer.
+std::vector<Surface> solidSurfaces(const Scene& scene);
+
+}  // namespace mf::render

@@ -1,0 +1,27 @@
+// One frame through the render stage: the surface file's level sets (and the scene's solids) in,
+// a linear EXR and an sRGB PNG out. Frame N needs only surface.N.vdb and the scene.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "sim/scene.h"
+
+namespace mf::render {
+
+struct RenderFrameResult {
+  bool skipped = false;   // both images already there
+  uint64_t rays = 0;
+  double seconds = 0;     // tracing only
+  double setupSeconds = 0;  // reading, meshing, building the BVH
+  size_t triangles = 0;
+};
+
+/// Renders frame `frame` of `scene` from `surfaceFile` into `exrPath` and `pngPath` (either may
+/// be empty). Phases in scene.render.phases must be in the file. `progress(done, total)` reports
+/// rows.
+RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
+                              const std::string& pngPath, int frame,
+                              const std::function<void(int, int)>& progress = {});
+
+}  // namespace mf::render
