@@ -148,7 +148,7 @@ struct RenderSettings {
   int width = 480, height = 270;
   int samples = 16;                 // paths per pixel
   int maxDepth = 16;                // bounces per path
-  Real indirectClamp = 4;           // cap on light arriving after a diffuse bounce (0: none)
+  Real indirectClamp = 1;           // cap on light arriving after a diffuse bounce (0: none)
   std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
   Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
   Real fov = 40;                    // vertical, degrees
