@@ -1,12 +1,113 @@
 #include "report.h"
 
 #include <fmt/format.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "report_util.h"
 
 namespace mf::report {
 
-int runReportCommand(const std::vector<std::string>&) {
-  fmt::print(stderr, "multifluid report: being built (issue 8)\n");
-  return 1;
+namespace {
+
+const std::vector<std::string> kNames = {"dam_break", "hydrostatic", "heat_diffusion", "layered",  // accuracy
+                                         "stiffness", "density_ratio", "viscosity", "dt_factor", "temperature",
+                                         "spacing"};  // stability
+
+void usage(std::FILE* to) {
+  fmt::print(to,
+             "usage: multifluid report accuracy|stability|all [--out DIR] [--quick] [--threads N] [--only NAME,...] [--no-plots]\n"
+             "\n"
+             "accuracy:  error against run time on reference problems (dam_break against Martin & Moyce 1952,\n"
+             "           hydrostatic, heat_diffusion against erf, layered two fluids), a ladder of settings each;\n"
+             "           writes DIR/accuracy.md, DIR/accuracy_<problem>.csv and .png (error against wall time,\n"
+             "           Pareto front marked).\n"
+             "stability: sweeps of stiffness, density ratio, viscosity, time-step factor, temperature range and\n"
+             "           particle spacing; writes DIR/stability.md, DIR/stability.csv and DIR/stability.png.\n"
+             "--quick    a tiny ladder (seconds; what CI runs); the default is the full one (minutes).\n"
+             "--only     problems (dam_break, hydrostatic, heat_diffusion, layered) or sweeps (stiffness,\n"
+             "           density_ratio, viscosity, dt_factor, temperature, spacing) to run.\n"
+             "--no-plots write the gnuplot scripts but do not run gnuplot.\n"
+             "DIR defaults to report/. Run times are measured on this machine, which the pages name.\n");
+}
+
+std::vector<std::string> splitComma(const std::string& s) {
+  std::vector<std::string> parts;
+  std::stringstream ss(s);
+  for (std::string p; std::getline(ss, p, ',');)
+    if (!p.empty()) parts.push_back(p);
+  return parts;
+}
+
+// Parses the options after the report name; returns -1 when fine, else the exit status.
+int parseOptions(const std::vector<std::string>& args, Options& opt) {
+  for (size_t k = 1; k < args.size(); ++k) {
+    const std::string& a = args[k];
+    auto value = [&]() -> const std::string* { return k + 1 < args.size() ? &args[++k] : nullptr; };
+    const std::string* v = nullptr;
+    if (a == "-h" || a == "--help") {
+      usage(stdout);
+      return 0;
+    } else if (a == "--quick") {
+      opt.quick = true;
+    } else if (a == "--no-plots") {
+      opt.plots = false;
+    } else if (a == "--out" || a == "--threads" || a == "--only") {
+      if (!(v = value())) {
+        fmt::print(stderr, "multifluid report: {} needs a value\n", a);
+        return 2;
+      }
+      if (a == "--out") opt.out = *v;
+      if (a == "--only") opt.only = splitComma(*v);
+      if (a == "--threads" && (opt.threads = std::atoi(v->c_str())) < 1) {
+        fmt::print(stderr, "multifluid report: --threads must be at least 1\n");
+        return 2;
+      }
+    } else {
+      fmt::print(stderr, "multifluid report: unknown option {}\n", a);
+      usage(stderr);
+      return 2;
+    }
+  }
+  for (const auto& name : opt.only)
+    if (std::find(kNames.begin(), kNames.end(), name) == kNames.end()) {
+      fmt::print(stderr, "multifluid report: --only: unknown name '{}'\n", name);
+      return 2;
+    }
+  return -1;
+}
+
+}  // namespace
+
+int runReportCommand(const std::vector<std::string>& args) {
+  const bool help = !args.empty() && (args[0] == "-h" || args[0] == "--help");
+  if (args.empty() || help || (args[0] != "accuracy" && args[0] != "stability" && args[0] != "all")) {
+    usage(help ? stdout : stderr);
+    return help ? 0 : 2;
+  }
+  Options opt;
+  opt.commandLine = "multifluid report";
+  for (const auto& a : args) opt.commandLine += " " + a;
+  if (const int status = parseOptions(args, opt); status >= 0) return status;
+
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0)
+    threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
+  const Machine machine = currentMachine();
+  std::filesystem::create_directories(opt.out);
+  fmt::print(stderr, "report {}{} on {} -> {}\n", args[0], opt.quick ? " (quick)" : "", machine.describe(), opt.out);
+  if (opt.plots && !gnuplotAvailable())
+    fmt::print(stderr, "report: gnuplot not found; CSV and Markdown are written, plots are not (install gnuplot-nox, or pass --no-plots)\n");
+
+  int status = 0;
+  if (args[0] == "accuracy" || args[0] == "all") status = std::max(status, runAccuracy(opt, machine));
+  if (args[0] == "stability" || args[0] == "all") status = std::max(status, runStability(opt, machine));
+  return status;
 }
 
 }  // namespace mf::report

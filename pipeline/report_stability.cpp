@@ -1,0 +1,443 @@
+// `report stability`: sweeps over stiff and extreme settings. Each case is a short run; the
+// simulator's own watchdog (Simulation::step) decides what happens to a bad step, and the report
+// records whether the run got through, how compressed and how energetic it became, when trouble
+// started and what the watchdog did about it.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "report_util.h"
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace fs = std::filesystem;
+
+namespace mf::report {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kEnergyGrowthLimit = 0.05;  // flagged: a closed, viscous box should only lose energy
+
+struct Case {
+  std::string sweep, label, parameter;
+  double value = 0;
+  Scene scene;
+  bool closed = true;  // no energy source: energy may only fall
+};
+
+struct Outcome {
+  size_t particles = 0;
+  uint64_t steps = 0, retries = 0, lost = 0;
+  int64_t troubleStep = -1;       // first step the watchdog retried, or the step it gave up on
+  double troubleTime = kNaN;
+  double maxDensityError = 0, drift = kNaN, growth = kNaN, wall = 0;
+  bool stopped = false;
+  std::string message;
+  std::string status;  // stable, recovered, stopped, lost particles
+  bool stable() const { return status == "stable" || status == "recovered"; }
+  bool energyGrew(const Case& c) const { return c.closed && growth > kEnergyGrowthLimit; }
+};
+
+// ---- scenes ------------------------------------------------------------------------------------
+
+// A block of water thrown at the floor of a closed box (tests/test_watchdog.cpp's drop), all
+// lengths times `scale`, speed and time by sqrt(scale) (Froude similarity: the same flow at
+// another size; stiffness, viscosity and the time-step rules stay as they are).
+std::string dropText(double scale, double spacing, double endTime) {
+  const double L = scale, v = 2.0 * std::sqrt(scale);
+  return fmt::format(R"(
+[scene]
+name = "drop"
+end_time = {end}
+domain_min = [{lo}, {lo}, {lo}]
+domain_max = [{hx}, {hy}, {hx}]
+[solver]
+particle_spacing = {s}
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+viscosity = 0.1
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [{w}, {h}, {w}]
+[[fluid]]
+phase = "water"
+min = [0.0, {b0}, 0.0]
+max = [{w}, {b1}, {w}]
+velocity = [0.0, {v}, 0.0]
+[effects.gravity]
+[effects.pressure]
+[effects.viscosity]
+)",
+                     fmt::arg("end", tomlReal(endTime * std::sqrt(scale))), fmt::arg("lo", tomlReal(-0.01 * L)),
+                     fmt::arg("hx", tomlReal(0.11 * L)), fmt::arg("hy", tomlReal(0.21 * L)), fmt::arg("s", tomlReal(spacing)),
+                     fmt::arg("w", tomlReal(0.1 * L)), fmt::arg("h", tomlReal(0.2 * L)), fmt::arg("b0", tomlReal(0.05 * L)),
+                     fmt::arg("b1", tomlReal(0.15 * L)), fmt::arg("v", tomlReal(-v)));
+}
+
+// Heavy water below a lighter fluid at rest (rest densities 1000 and 1000/ratio), one density
+// formulation; the light layer sits on the heavy one through the interface.
+std::string layersText(double ratio, const std::string& formulation, double endTime) {
+  return fmt::format(R"(
+[scene]
+name = "density_ratio"
+end_time = {end}
+domain_min = [-0.01, -0.01, -0.01]
+domain_max = [0.11, 0.21, 0.11]
+[solver]
+particle_spacing = 0.01
+density_formulation = "{f}"
+[[phase]]
+name = "heavy"
+rest_density = 1000.0
+stiffness = 1000.0
+viscosity = 0.1
+[[phase]]
+name = "light"
+rest_density = {light}
+stiffness = 1000.0
+viscosity = 0.1
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.1]
+[[fluid]]
+phase = "heavy"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.05, 0.1]
+[[fluid]]
+phase = "light"
+min = [0.0, 0.05, 0.0]
+max = [0.1, 0.1, 0.1]
+[effects.gravity]
+[effects.pressure]
+[effects.viscosity]
+)",
+                     fmt::arg("end", tomlReal(endTime)), fmt::arg("f", formulation),
+                     fmt::arg("light", tomlReal(1000.0 / ratio)));
+}
+
+// Water (thermal expansion 1e-3/K, like the lava lamp's) at rest at 20 degrees, heated from
+// below by a source at 20 + range/2 and cooled from above by one at 20 - range/2 (rate 5/s):
+// the rest density changes under the fluid while it convects.
+std::string temperatureText(double range, double endTime) {
+  return fmt::format(R"(
+[scene]
+name = "temperature"
+end_time = {end}
+domain_min = [-0.01, -0.01, -0.01]
+domain_max = [0.11, 0.21, 0.11]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+viscosity = 0.1
+thermal_diffusivity = 2e-4
+thermal_expansion = 0.001
+reference_temperature = 20.0
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.1]
+[[fluid]]
+phase = "water"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.1, 0.1]
+temperature = 20.0
+[effects.gravity]
+[effects.pressure]
+[effects.viscosity]
+[effects.heat_diffusion]
+[[effects.heat_diffusion.source]]
+min = [-1.0, -1.0, -1.0]
+max = [1.0, 0.03, 1.0]
+temperature = {hot}
+rate = 5.0
+[[effects.heat_diffusion.source]]
+min = [-1.0, 0.07, -1.0]
+max = [1.0, 1.0, 1.0]
+temperature = {cold}
+rate = 5.0
+[effects.thermal_expansion]
+)",
+                     fmt::arg("end", tomlReal(endTime)), fmt::arg("hot", tomlReal(20 + range / 2)),
+                     fmt::arg("cold", tomlReal(20 - range / 2)));
+}
+
+// ---- the sweeps --------------------------------------------------------------------------------
+
+std::vector<Case> cases(const Options& opt) {
+  const double end = opt.quick ? 0.1 : 0.3;
+  const std::string drop = dropText(1, 0.01, end);
+  std::vector<Case> list;
+  auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
+                 const std::string& text, const std::vector<std::string>& sets, bool closed = true) {
+    if (!opt.selected(sweep)) return;
+    list.push_back({sweep, label, parameter, value, parseScene(text, "<report:" + sweep + ">", sets), closed});
+  };
+  const bool q = opt.quick;
+  // Stiffness k of the drop, from soft to 100 times the default (1000 m^2/s^2).
+  for (double k : q ? std::vector<double>{10, 1000} : std::vector<double>{10, 100, 400, 1000, 10000, 100000})
+    add("stiffness", fmt::format("k={:g}", k), "phase.water.stiffness", k, drop, {"phase.water.stiffness=" + tomlReal(k)});
+  // Rest-density ratio of two layers, with each density formulation.
+  for (double r : q ? std::vector<double>{100} : std::vector<double>{1, 10, 100, 1000})
+    for (const char* f : {"mass", "number"})
+      add("density_ratio", fmt::format("1:{:g} {}", r, f), "rest-density ratio", r, layersText(r, f, end), {});
+  // Viscosity mu, from none to lava-like (basalt 100 - 1000 Pa s).
+  for (double mu : q ? std::vector<double>{1000} : std::vector<double>{0, 0.01, 0.1, 1, 10, 100, 1000})
+    add("viscosity", fmt::format("mu={:g}", mu), "phase.water.viscosity", mu, drop, {"phase.water.viscosity=" + tomlReal(mu)});
+  // Time-step factor f: cfl = 0.4 f (the acoustic CFL limit is cfl = 1), force_factor = 0.25 f;
+  // max_dt raised so that it does not cap the step; last, the largest with retries forbidden.
+  auto dtSets = [](double f) {
+    return std::vector<std::string>{"solver.cfl=" + tomlReal(std::min(10.0, 0.4 * f)),
+                                    "solver.force_factor=" + tomlReal(0.25 * f), "solver.max_dt=0.01"};
+  };
+  for (double f : q ? std::vector<double>{25} : std::vector<double>{0.5, 1, 2, 5, 10, 25})
+    add("dt_factor", fmt::format("f={:g}", f), "time-step factor", f, drop, dtSets(f));
+  {
+    auto sets = dtSets(25);
+    sets.push_back("solver.max_retries=0");
+    add("dt_factor", "f=25 no retries", "time-step factor", 25, drop, sets);
+  }
+  // Temperature range between the heating and the cooling source.
+  for (double dT : q ? std::vector<double>{1000} : std::vector<double>{0, 10, 100, 1000, 5000})
+    add("temperature", fmt::format("dT={:g}", dT), "temperature range (K)", dT, temperatureText(dT, end), {}, false);
+  // Particle spacing: 2 to 20 particles across the 0.1 m block, then the same 10 across at
+  // 1 mm and at 10 m (Froude-scaled; stiffness unchanged).
+  for (double s : q ? std::vector<double>{0.05} : std::vector<double>{0.05, 0.025, 0.01, 0.005})
+    add("spacing", fmt::format("s={:g}m", s), "solver.particle_spacing", s, dropText(1, s, end), {});
+  if (!q)
+    for (double scale : {0.01, 100.0})
+      add("spacing", fmt::format("s={:g}m (scene x{:g})", 0.01 * scale, scale), "solver.particle_spacing",
+          0.01 * scale, dropText(scale, 0.01 * scale, end), {});
+  return list;
+}
+
+// ---- one case ----------------------------------------------------------------------------------
+
+// Kinetic + gravitational (above the lowest container floor) + elastic energy. The elastic
+// energy of P = k (rho - rho0) per unit mass is k (ln(rho/rho0) + rho0/rho - 1), counted only
+// where the pressure is not clamped to zero.
+double energy(const Simulation& sim, const Vec3& g, double floorY) {
+  const ParticleSet& ps = sim.particles();
+  const bool clamp = sim.scene().solver.clampNegativePressure;
+  double e = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const double m = ps.mass[i];
+    e += 0.5 * m * lengthSquared(ps.velocity[i]);
+    e -= m * (g.x * ps.position[i].x + g.y * (ps.position[i].y - floorY) + g.z * ps.position[i].z);
+    const double r = ps.density[i] / ps.restDensity[i];
+    if (r > 1 || !clamp) e += m * ps.stiffness[i] * (std::log(r) + 1 / r - 1);
+  }
+  return e;
+}
+
+Vec3 gravityOf(const Scene& s) {
+  const EffectSpec* g = s.effect("gravity");
+  return g ? g->vector("acceleration") : Vec3{};
+}
+
+double floorOf(const Scene& s) {
+  double y = std::numeric_limits<double>::max();
+  for (const auto& solid : s.solids) y = std::min(y, solid.shape == SolidSpec::Shape::Box ? solid.min.y : solid.base.y);
+  return s.solids.empty() ? 0 : y;
+}
+
+// Energy growth is reported beside the status, not folded into it: it is measured in cases the
+// watchdog has nothing against, and a sweep's limits would otherwise hide behind it.
+std::string classify(const Outcome& o) {
+  if (o.stopped) return "stopped";
+  if (o.lost > 0) return "lost particles";
+  return o.retries > 0 ? "recovered" : "stable";
+}
+
+Outcome runOne(const Case& c) {
+  Outcome o;
+  const auto t0 = Clock::now();
+  Simulation sim(c.scene);
+  o.particles = sim.particles().size();
+  const Vec3 g = gravityOf(c.scene);
+  const double floorY = floorOf(c.scene);
+  const double e0 = energy(sim, g, floorY);
+  double eMax = e0;
+  try {
+    sim.advanceTo(c.scene.endTime, [&](const Simulation& s) {
+      eMax = std::max(eMax, energy(s, g, floorY));
+      if (o.troubleStep < 0 && s.counters().retries > 0) {
+        o.troubleStep = int64_t(s.stepCount()) - 1;  // the step just taken needed a retry
+        o.troubleTime = s.time();
+      }
+    });
+  } catch (const NumericalInstability& e) {
+    o.stopped = true;
+    o.message = e.what();
+    if (o.troubleStep < 0) o.troubleStep = int64_t(sim.stepCount()), o.troubleTime = sim.time();
+  }
+  o.wall = secondsSince(t0);
+  const double e1 = energy(sim, g, floorY);
+  o.steps = sim.stepCount();
+  o.retries = sim.counters().retries;
+  o.lost = sim.counters().removedOutOfDomain;
+  o.maxDensityError = sim.counters().maxDensityError;
+  if (e0 > 0) o.drift = (e1 - e0) / e0, o.growth = (eMax - e0) / e0;
+  o.status = classify(o);
+  if (o.message.empty() && o.retries > 0)
+    o.message = fmt::format("watchdog halved dt on {} step attempt(s); run completed", o.retries);
+  return o;
+}
+
+// ---- output ------------------------------------------------------------------------------------
+
+Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
+  Table t;
+  t.header = {"sweep", "case", "parameter", "value", "particles", "end_time_s", "status", "stable", "steps", "retries",
+              "first_trouble_step", "first_trouble_time_s", "max_density_error", "energy_drift", "energy_growth_max",
+              "lost_particles", "wall_s", "message"};
+  for (size_t k = 0; k < cs.size(); ++k) {
+    const Case& c = cs[k];
+    const Outcome& o = os[k];
+    t.add({c.sweep, c.label, c.parameter, fmtNumber(c.value, 6), std::to_string(o.particles), fmtNumber(c.scene.endTime, 4),
+           o.status, o.stable() ? "yes" : "no", std::to_string(o.steps), std::to_string(o.retries),
+           o.troubleStep < 0 ? "-" : std::to_string(o.troubleStep), fmtNumber(o.troubleTime, 4),
+           fmtNumber(o.maxDensityError, 3), fmtNumber(o.drift, 3), fmtNumber(o.growth, 3), std::to_string(o.lost),
+           fmt::format("{:.2f}", o.wall), o.message});
+  }
+  return t;
+}
+
+// One panel per sweep: the largest compression of every case, coloured by outcome. A stopped
+// run has no accepted step at fault, so it is drawn as a cross at the watchdog's limit.
+std::string stabilityScript(const std::vector<Case>& cs, const std::vector<Outcome>& os, double limit) {
+  std::vector<std::string> sweeps;
+  for (const auto& c : cs)
+    if (std::find(sweeps.begin(), sweeps.end(), c.sweep) == sweeps.end()) sweeps.push_back(c.sweep);
+  const int cols = sweeps.size() > 1 ? 2 : 1, rows = int((sweeps.size() + 1) / size_t(cols));
+  std::string s = fmt::format(R"gp(set terminal pngcairo size {},{} noenhanced font "sans,9"
+set output "stability.png.tmp"
+set multiplot layout {},{} title "Largest compression (rho - rho0)/rho0 of accepted steps per case\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog (drawn at its limit {})"
+set logscale y
+set yrange [1e-4:2]
+set grid ytics
+set xtics rotate by 30 right
+set ylabel "max density error"
+)gp",
+                              cols * 550, rows * 380, rows, cols, limit);
+  for (const auto& sweep : sweeps) {
+    std::string data, tics;
+    int x = 0;
+    for (size_t k = 0; k < cs.size(); ++k) {
+      if (cs[k].sweep != sweep) continue;
+      const Outcome& o = os[k];
+      const int colour = o.stable() ? (o.retries > 0 ? 0xff7f0e : 0x2ca02c) : 0xd62728;
+      const double y = o.stopped ? limit : std::max(1e-4, o.maxDensityError);
+      // gnuplot takes variable columns in the order point type, then colour.
+      data += fmt::format("{} {:.6g} {} {}\n", x, y, o.stopped ? 2 : 7, colour);
+      tics += fmt::format("{}\"{}\" {}", tics.empty() ? "" : ", ", escapeGnuplot(cs[k].label), x);
+      ++x;
+    }
+    s += fmt::format("set title \"{}\"\nset xrange [-0.5:{}]\nset xtics ({})\n", sweep, x - 0.5, tics);
+    s += "plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle\n" + data + "e\n";
+  }
+  return s + "unset multiplot\n";
+}
+
+// Per sweep: which cases held and which did not, with the watchdog's word on the first failure.
+std::string limits(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
+  std::string out;
+  std::string current;
+  for (size_t k = 0; k < cs.size(); ++k) {
+    if (cs[k].sweep == current) continue;
+    current = cs[k].sweep;
+    std::vector<std::string> good, bad, grew;
+    std::string firstBad;
+    for (size_t j = k; j < cs.size(); ++j) {
+      if (cs[j].sweep != current) continue;
+      const std::string item = cs[j].label + (os[j].retries > 0 && os[j].stable() ? " (with retries)" : "");
+      (os[j].stable() ? good : bad).push_back(os[j].stable() ? item : cs[j].label + ": " + os[j].status);
+      if (!os[j].stable() && firstBad.empty() && !os[j].message.empty()) firstBad = os[j].message;
+      if (os[j].energyGrew(cs[j])) grew.push_back(fmt::format("{} (+{:.0f} %)", cs[j].label, 100 * os[j].growth));
+    }
+    auto join = [](const std::vector<std::string>& v) {
+      std::string s;
+      for (const auto& x : v) s += (s.empty() ? "" : "; ") + x;
+      return s.empty() ? std::string("none") : s;
+    };
+    out += fmt::format("- **{}**: stable: {}. Not stable: {}.", current, join(good), join(bad));
+    if (!grew.empty()) out += fmt::format(" Energy grew by more than {:.0f} %: {}.", 100 * kEnergyGrowthLimit, join(grew));
+    if (!firstBad.empty()) out += fmt::format(" First stop message: `{}`", firstBad);
+    out += "\n";
+  }
+  return out;
+}
+
+std::string page(const Options& opt, const Machine& machine, const Table& t, const std::vector<Case>& cs,
+                 const std::vector<Outcome>& os, double seconds) {
+  std::string out = fmt::format(
+      "# Stability on stiff and extreme cases\n\n"
+      "Generated by `{}` on {}.\n\n**Machine**: {}; load average {} at the end. Wall times measured there.\n\n"
+      "**Sweep**: {}. Each case is a short run of one scene with one value changed from its base:\n\n"
+      "- `stiffness`, `viscosity`, `dt_factor`, `spacing`: a 0.1 m cube of water (1 cm spacing, 1000 particles, "
+      "k = 1000, mu = 0.1 Pa s) thrown at 2 m/s at the floor of a closed 0.1 x 0.2 x 0.1 m box "
+      "(the drop of tests/test_watchdog.cpp), for {} s. The time-step factor f sets `solver.cfl` = 0.4 f (at most 10; "
+      "cfl = 1 is the acoustic CFL limit) and `solver.force_factor` = 0.25 f, with `max_dt` = 0.01 s. The "
+      "scaled spacing cases are the same drop at 1/100 and 100 times the size, speeds and times scaled by "
+      "sqrt(size) (Froude similarity), stiffness kept.\n"
+      "- `density_ratio`: 5 cm of water under 5 cm of a fluid with rest density 1000/ratio, at rest, per density "
+      "formulation.\n"
+      "- `temperature`: 10 cm of water (thermal expansion 1e-3/K, diffusivity 2e-4 m^2/s) heated from below by a "
+      "source at 20 + dT/2 and cooled from above by one at 20 - dT/2 (rate 5/s).\n\n"
+      "**Columns**: `status` is `stable` (ran to the end, nothing retried), `recovered` (ran to the end; the "
+      "watchdog retried steps with half the dt), `stopped` (the watchdog gave up after `solver.max_retries` "
+      "halvings and threw its message, quoted below) or `lost particles` (particles left the domain); `stable` "
+      "is yes for the first two. `max_density_error` is the largest (rho - rho0)/rho0 after any accepted step "
+      "(Simulation counters; the watchdog rejects steps above 0.5). Energy E = kinetic + gravitational (above "
+      "the floor) + elastic, the last k (ln(rho/rho0) + rho0/rho - 1) per unit mass where rho > rho0 (the work "
+      "of P = k (rho - rho0) with the SPH density); `energy_drift` = (E_end - E_0)/E_0 and "
+      "`energy_growth_max` = max over steps of (E - E_0)/E_0. A closed viscous box should only lose energy; "
+      "growth above {:.0f} % is listed under the limits (not for `temperature`, where the sources do work). "
+      "`first_trouble_step` is the first step the watchdog had to retry, or the step it stopped at.\n\n",
+      opt.commandLine, utcNow(), machine.describe(), loadAverage(), opt.quick ? "quick (the CI check, not for conclusions)" : "full",
+      opt.quick ? 0.1 : 0.3, 100 * kEnergyGrowthLimit);
+  out += "## Limits found\n\n" + limits(cs, os) + "\n![stability](stability.png)\n\n## All cases\n\n";
+  out += t.markdown({"sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
+                     "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s"}) +
+         "\n## Watchdog messages\n\n";
+  for (size_t k = 0; k < cs.size(); ++k)
+    if (!os[k].message.empty()) out += fmt::format("- {} {}: {}\n", cs[k].sweep, cs[k].label, os[k].message);
+  out += fmt::format("\nTotal time of this report: {} ({}).\n", formatDuration(seconds), machine.describe());
+  return out;
+}
+
+}  // namespace
+
+int runStability(const Options& opt, const Machine& machine) {
+  const auto start = Clock::now();
+  const std::vector<Case> cs = cases(opt);
+  if (cs.empty()) return 0;
+  std::vector<Outcome> os;
+  for (const Case& c : cs) {
+    os.push_back(runOne(c));
+    const Outcome& o = os.back();
+    fmt::print(stderr, "[stability {}/{}] {} {}: {} particles, {} steps, {}, retries {}, max density error {}  {:.2f} s  (elapsed {})\n",
+               os.size(), cs.size(), c.sweep, c.label, o.particles, o.steps, o.status, o.retries,
+               fmtNumber(o.maxDensityError), o.wall, formatDuration(secondsSince(start)));
+  }
+  const fs::path out(opt.out);
+  const Table t = resultTable(cs, os);
+  writeText((out / "stability.csv").string(), t.csv());
+  const bool plotted = plot(opt, "stability", stabilityScript(cs, os, cs.front().scene.solver.maxDensityError), (out / "stability.png").string());
+  writeText((out / "stability.md").string(), page(opt, machine, t, cs, os, secondsSince(start)));
+  fmt::print(stderr, "report stability: {} cases in {} on {}; wrote {}\n", cs.size(), formatDuration(secondsSince(start)),
+             machine.describe(), (out / "stability.md").string());
+  return plotted ? 0 : 4;
+}
+
+}  // namespace mf::report

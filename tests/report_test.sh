@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The report command end to end on its quick ladder: every CSV with its header and rows, every
+# plot a non-empty PNG, pages that name the machine, bad arguments refused.
+set -euo pipefail
+bin=$1
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+"$bin" report accuracy --quick --out "$work" 2> "$work/accuracy.log" || fail "report accuracy: $(tail -20 "$work/accuracy.log")"
+"$bin" report stability --quick --out "$work" 2> "$work/stability.log" || fail "report stability: $(tail -20 "$work/stability.log")"
+
+# check_csv FILE HEADER ROWS
+check_csv() {
+  [ -s "$work/$1" ] || fail "$1 missing or empty"
+  [ "$(head -n 1 "$work/$1")" = "$2" ] || fail "$1 header is '$(head -n 1 "$work/$1")'"
+  local rows=$(($(wc -l < "$work/$1") - 1))
+  [ "$rows" -eq "$3" ] || fail "$1 has $rows rows, expected $3"
+}
+common=problem,setting,spacing_m,dt_factor,variant,particles,steps,wall_s,error
+check_csv accuracy_dam_break.csv "$common,rms_Z_shifted,rms_H,rms_H_shifted,pareto,status" 2
+check_csv accuracy_hydrostatic.csv "$common,max_bin_error,bins,pareto,status" 2
+check_csv accuracy_heat_diffusion.csv "$common,max_abs_error,pareto,status" 2
+check_csv accuracy_layered.csv "$common,heavy_wrong_fraction,light_wrong_fraction,pareto,status" 2
+check_csv stability.csv "sweep,case,parameter,value,particles,end_time_s,status,stable,steps,retries,first_trouble_step,first_trouble_time_s,max_density_error,energy_drift,energy_growth_max,lost_particles,wall_s,message" 9
+
+for p in dam_break hydrostatic heat_diffusion layered; do
+  # Every problem has a point on its Pareto front (column 'pareto' just before 'status').
+  awk -F, 'NR > 1 && $(NF - 1) == 1 { found = 1 } END { exit !found }' "$work/accuracy_$p.csv" || fail "no Pareto point in accuracy_$p.csv"
+done
+# The dam break is measured against Martin & Moyce: a finite RMS of Z, not far off.
+awk -F, 'NR > 1 && !($9 > 0 && $9 < 1) { exit 1 }' "$work/accuracy_dam_break.csv" || fail "dam-break error out of (0, 1): $(cat "$work/accuracy_dam_break.csv")"
+# The watchdog's verdicts reach the table: the soft case stops with its message, the default holds.
+grep -q '^stiffness,k=10,.*,stopped,no,.*simulation unstable at step' "$work/stability.csv" || fail "k=10 not reported as stopped"
+grep -q '^stiffness,k=1000,.*,stable,yes,' "$work/stability.csv" || fail "k=1000 not reported as stable"
+grep -q '^dt_factor,f=25 no retries,.*,stopped,no,.*solver.cfl' "$work/stability.csv" || fail "dt factor 25 without retries not stopped naming solver.cfl"
+
+for png in accuracy_dam_break accuracy_hydrostatic accuracy_heat_diffusion accuracy_layered dam_break_front stability; do
+  f="$work/$png.png"
+  [ -s "$f" ] || fail "$png.png missing or empty"
+  [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] || fail "$png.png is not a PNG"
+done
+
+model=$(grep -m1 '^model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')
+for page in accuracy.md stability.md; do
+  [ -s "$work/$page" ] || fail "$page missing"
+  grep -qF "$model" "$work/$page" || fail "$page does not name the CPU '$model'"
+  grep -q "hardware threads" "$work/$page" || fail "$page does not give the thread count"
+done
+grep -q '!\[error against wall time\](accuracy_dam_break.png)' "$work/accuracy.md" || fail "accuracy.md does not show its plot"
+ls "$work" | grep -q '\.tmp$' && fail "temporary files left behind: $(ls "$work" | grep '\.tmp$')"
+
+status=0
+"$bin" report nonsense 2> /dev/null || status=$?
+[ "$status" -eq 2 ] || fail "unknown report exited $status, expected 2"
+status=0
+"$bin" report accuracy --only nothing 2> /dev/null || status=$?
+[ "$status" -eq 2 ] || fail "unknown --only name exited $status, expected 2"
+echo "report quick ladder: $(grep -c . "$work/accuracy_dam_break.csv") dam-break lines; $(tail -n 1 "$work/accuracy.log")"
