@@ -111,10 +111,27 @@ struct MediumStack {
   }
 };
 
+/// Continuing rays start exactly on the surface they left (an offset would step over a
+/// coincident surface, such as water against a glass wall); instead, hits on the geometry just
+/// left are ignored closer than `skipDistance`.
+struct SkipContext {
+  RTCIntersectContext context;
+  unsigned skipGeometry;
+  float skipDistance;
+};
+
+void skipFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const SkipContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] && RTCHitN_geomID(args->hit, args->N, i) == c->skipGeometry &&
+        RTCRayN_tfar(args->ray, args->N, i) < c->skipDistance)
+      args->valid[i] = 0;
+}
+
 struct Hit {
   enum Kind { None, Mesh, Floor, Light } kind = None;
   Real t = 0;
-  int material = -1;
+  int material = -1;  // also the geometry id
   Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
 };
 
@@ -139,7 +156,7 @@ struct PathTracer::Impl {
     if (!device) throw std::runtime_error("Embree: cannot create a device");
     scene = rtcNewScene(device);
     // Robust traversal: refracted rays must not leak through shared edges of a mesh.
-    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneFlags(scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     Vec3 lo{1e30, 1e30, 1e30}, hi{-1e30, -1e30, -1e30};
     for (size_t g = 0; g < surfaces.size(); ++g) {
@@ -191,10 +208,16 @@ struct PathTracer::Impl {
     return t0 > epsilon ? t0 : (t1 > epsilon ? t1 : -1);
   }
 
-  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, uint64_t& rays, std::vector<RecordedRay>* record) const {
+  /// The nearest hit along o + t d, t in (0, tfar); `leaving`: the geometry o lies on, or -1.
+  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, uint64_t& rays, std::vector<RecordedRay>* record) const {
     Hit hit;
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    SkipContext skip;
+    rtcInitIntersectContext(&skip.context);
+    if (leaving >= 0) {
+      skip.context.filter = skipFilter;
+      skip.skipGeometry = unsigned(leaving);
+      skip.skipDistance = float(epsilon);
+    }
     RTCRayHit rh;
     rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
     rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
@@ -205,7 +228,7 @@ struct PathTracer::Impl {
     rh.ray.time = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, 0, rh.ray.tfar});
-    rtcIntersect1(scene, &context, &rh);
+    rtcIntersect1(scene, &skip.context, &rh);
     ++rays;
     Real best = tfar;
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
@@ -245,11 +268,11 @@ struct PathTracer::Impl {
   /// Transmittance towards a light sample through clear volumes (a transparent-shadow
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
-  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, MediumStack stack, uint64_t& rays,
+  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, MediumStack stack, uint64_t& rays,
                      std::vector<RecordedRay>* record) const {
     Vec3 T{1, 1, 1};
     for (int crossing = 0; crossing < 32; ++crossing) {
-      const Hit h = intersect(o, d, dist, rays, record);
+      const Hit h = intersect(o, d, dist, leaving, rays, record);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
@@ -263,15 +286,16 @@ struct PathTracer::Impl {
       if (dot(d, h.ng) < 0) stack.push(h.material);
       else stack.remove(h.material);
       if (maxComponent(T) < 1e-4) return {};
-      o = h.p + d * epsilon;
-      dist -= h.t + epsilon;
+      o = h.p;
+      leaving = h.material;
+      dist -= h.t;
       if (dist <= 0) return T;
     }
     return T;
   }
 
   /// Light from the spherical lamp at p with a cosine (surface) or isotropic (medium) lobe.
-  Vec3 directLight(const Vec3& p, const Vec3* normal, const MediumStack& stack, Rng& rng, uint64_t& rays,
+  Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, const MediumStack& stack, Rng& rng, uint64_t& rays,
                    std::vector<RecordedRay>* record) const {
     if (settings.lightRadius <= 0) return {};
     const Vec3 toCentre = settings.lightPosition - p;
@@ -296,7 +320,7 @@ struct PathTracer::Impl {
     }
     const Real tl = intersectLight(p, dir);
     if (tl <= 0) return {};
-    const Vec3 T = transmittance(p, dir, tl, stack, rays, record);
+    const Vec3 T = transmittance(p, dir, tl, leaving, stack, rays, record);
     return mul(T, settings.lightEmission) * (lobe / pdf);
   }
 
@@ -312,12 +336,14 @@ struct PathTracer::Impl {
       const Real m = maxComponent(c);
       L += indirect && m > settings.indirectClamp && settings.indirectClamp > 0 ? c * (settings.indirectClamp / m) : c;
     };
+    Vec3 start = o;    // where the current segment begins
+    int leaving = -1;  // the geometry the ray starts on
     while (bounces < settings.maxDepth) {
-      const Hit h = intersect(o, d, 1e30, rays, record);
+      const Hit h = intersect(o, d, 1e30, leaving, rays, record);
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
-        const Real seg = h.kind == Hit::None ? 1e30 : h.t;
+        const Real seg = h.kind == Hit::None ? 1e30 : length(h.p - start);
         if (m.kind == MaterialSpec::Kind::Medium && m.scattering > 0) {
           // Free flight by the scattering coefficient; absorption weights the segment.
           const Real s = -std::log(1 - rng.uniform()) / m.scattering;
@@ -325,10 +351,11 @@ struct PathTracer::Impl {
             throughput = mul(throughput, expNeg(m.absorption, s));
             add(mul(throughput, m.emission) * s);
             const Vec3 p = o + d * s;
-            add(mul(throughput, directLight(p, nullptr, stack, rng, rays, record)));
+            add(mul(throughput, directLight(p, nullptr, -1, stack, rng, rays, record)));
             indirect = true;
             lightCounted = true;
-            o = p;
+            o = start = p;
+            leaving = -1;
             d = uniformSphere(rng);
             ++bounces;
             if (!russianRoulette(throughput, bounces, rng)) break;
@@ -350,8 +377,10 @@ struct PathTracer::Impl {
       }
       if (h.kind == Hit::Floor) {
         add(mul(throughput, diffuseBounce(h, floorAlbedo(h.p), o, d, stack, rng, rays, record)));
+        leaving = -1;
         indirect = true;
         throughput = mul(throughput, floorAlbedo(h.p));
+        start = o;
         lightCounted = true;
         ++bounces;
         if (!russianRoulette(throughput, bounces, rng)) break;
@@ -366,8 +395,10 @@ struct PathTracer::Impl {
         Hit facing = h;
         if (dot(d, h.ng) > 0) facing.ng = -h.ng, facing.ns = -h.ns;
         add(mul(throughput, diffuseBounce(facing, m.colour, o, d, stack, rng, rays, record)));
+        leaving = h.material;
         indirect = true;
         throughput = mul(throughput, m.colour);
+        start = o;
         lightCounted = true;
         ++bounces;
         if (!russianRoulette(throughput, bounces, rng)) break;
@@ -382,9 +413,10 @@ struct PathTracer::Impl {
         // Inside a volume of higher priority: this boundary does not exist there.
         if (entering) stack.push(h.material);
         else stack.remove(h.material);
-        o = h.p + d * epsilon;
+        o = h.p;
+        leaving = h.material;
         if (++passes > 64) break;
-        continue;
+        continue;  // the segment goes on from `start`
       }
       MediumStack after = stack;
       if (entering) after.push(h.material);
@@ -411,11 +443,13 @@ struct PathTracer::Impl {
       if (reflect) {
         next = normalize(d + n * (2 * cosi));
         if (dot(next, incidentSide) <= 0) next = normalize(d + incidentSide * (-2 * dot(d, incidentSide)));
-        o = h.p + incidentSide * epsilon;
+        o = start = h.p;
+        leaving = h.material;
         lightCounted = false;  // reflections are not covered by the transparent shadow rays
       } else {
         stack = after;
-        o = h.p - incidentSide * epsilon;
+        o = start = h.p;
+        leaving = h.material;
       }
       d = next;
       ++bounces;
@@ -426,8 +460,10 @@ struct PathTracer::Impl {
 
   Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Rng& rng,
                      uint64_t& rays, std::vector<RecordedRay>* record) const {
-    const Vec3 p = h.p + h.ng * epsilon;
-    const Vec3 direct = mul(albedo, directLight(p, &h.ns, stack, rng, rays, record));
+    // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
+    const bool mesh = h.kind == Hit::Mesh;
+    const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, stack, rng, rays, record));
     o = p;
     d = cosineHemisphere(h.ns, rng);
     if (dot(d, h.ng) <= 0) d = cosineHemisphere(h.ng, rng);

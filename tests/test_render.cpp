@@ -1,0 +1,313 @@
+// The render stage: physical checks that need no reference image (a ball of water inverts what
+// is behind it; absorption follows Beer-Lambert), bit-identical images on any thread count, and
+// frame-diff tests against small golden images of canned inputs. Set MULTIFLUID_UPDATE_GOLDEN=1
+// to write the golden images again (on purpose, after a deliberate change).
+#include <gtest/gtest.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <openvdb/tools/LevelSetPlatonic.h>
+#include <openvdb/tools/MeshToVolume.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+
+#include "render/path_tracer.h"
+#include "sim/scene_file.h"
+
+namespace fs = std::filesystem;
+using namespace mf;
+using render::Image;
+using render::PathTracer;
+using render::Surface;
+
+namespace {
+
+openvdb::FloatGrid::Ptr sphere(double radius, const openvdb::Vec3f& centre, float voxel = 0.002f) {
+  return openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(float(radius), centre, voxel, 3.0f);
+}
+
+/// An axis-aligned box as a closed mesh of 12 triangles, wound outward.
+render::RenderMesh boxMesh(const Vec3& lo, const Vec3& hi) {
+  SolidSpec s;
+  s.shape = SolidSpec::Shape::Box;
+  s.min = lo, s.max = hi;
+  render::RenderMesh walls = render::solidMesh(s, 0);  // zero thickness: outer box == inner box
+  render::RenderMesh outer;                             // keep the outward half only
+  outer.positions = walls.positions;
+  outer.normals = walls.normals;
+  outer.triangles.assign(walls.triangles.begin(), walls.triangles.begin() + 12);
+  return outer;
+}
+
+MaterialSpec emitter(const Vec3& radiance) {
+  MaterialSpec m;
+  m.kind = MaterialSpec::Kind::Emitter;
+  m.emission = radiance;
+  return m;
+}
+
+RenderSettings darkStudio(int w, int h, int spp) {
+  RenderSettings s;
+  s.width = w, s.height = h, s.samples = spp;
+  s.skyZenith = s.skyHorizon = {0, 0, 0};
+  s.floor = false;
+  s.lightRadius = 0;
+  return s;
+}
+
+std::string goldenDir() { return MF_TEST_DATA_DIR "/golden"; }
+
+/// Compares with tests/golden/NAME.png (idiff-style: 0.016 per pixel, at most 1 % of pixels, the
+/// thresholds of Cycles' render tests); writes it instead when MULTIFLUID_UPDATE_GOLDEN is set.
+render::ImageDiff checkGolden(const std::string& name, const Image& image) {
+  const std::string path = goldenDir() + "/" + name + ".png";
+  if (std::getenv("MULTIFLUID_UPDATE_GOLDEN")) {
+    fs::create_directories(goldenDir());
+    render::writeImage(path, image);
+  }
+  return render::compareImages(render::readImage(path), image, 0.016);
+}
+
+const char* kGlassScene = R"(
+[scene]
+name = "glass"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.2, -0.1, -0.2]
+domain_max = [0.2, 0.4, 0.2]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+[[phase]]
+name = "air"
+rest_density = 100.0
+stiffness = 1000.0
+[[solid]]
+name = "glass"
+shape = "cylinder"
+base = [0.0, 0.0, 0.0]
+radius = 0.06
+height = 0.16
+open_top = true
+[[fluid]]
+phase = "water"
+min = [-0.02, 0.0, -0.02]
+max = [0.02, 0.04, 0.02]
+[effects.gravity]
+[render]
+width = 160
+height = 90
+samples = 64
+camera_position = [0.0, 0.12, 0.45]
+look_at = [0.0, 0.06, 0.0]
+fov = 35
+light_position = [0.3, 0.6, 0.4]
+light_radius = 0.08
+checker_size = 0.03
+)";
+
+/// Canned input 1: a ball of water standing in an open glass on a checkered table.
+Image waterBallInGlass(const std::vector<std::string>& overrides = {}) {
+  const Scene sc = parseScene(kGlassScene, "glass", overrides);
+  std::vector<Surface> surfaces;
+  surfaces.push_back({"water", render::levelSetMesh(*sphere(0.045, {0, 0.05f, 0})), sc.render.phaseMaterials[0]});
+  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  return PathTracer(std::move(surfaces), sc.render).render(0);
+}
+
+}  // namespace
+
+TEST(Render, BallOfWaterInvertsTheBackdrop) {
+  // A water ball (n = 1.33) is a lens of focal length nR / (2 (n - 1)) = 2.0 R from its centre;
+  // a backdrop 10 R behind it is imaged upside down and left-right swapped. Backdrop: left half
+  // red, right half blue (emitters), camera straight on.
+  const Real R = 0.05;
+  std::vector<Surface> surfaces;
+  MaterialSpec water;
+  water.ior = 1.33;
+  surfaces.push_back({"water", render::levelSetMesh(*sphere(R, {0, 0, 0}, 0.001f)), water});
+  surfaces.push_back({"red", boxMesh({-1, -1, -10 * R - 0.01}, {0, 1, -10 * R}), emitter({1, 0, 0})});
+  surfaces.push_back({"blue", boxMesh({0, -1, -10 * R - 0.01}, {1, 1, -10 * R}), emitter({0, 0, 1})});
+  RenderSettings s = darkStudio(101, 101, 4);
+  s.cameraPosition = {0, 0, 0.6};
+  s.lookAt = {0, 0, 0};
+  s.fov = 12;  // the ball spans most of the image
+  const Image image = PathTracer(std::move(surfaces), s).render(0);
+  // Pixel columns: the ball's silhouette is about 0.05 / (0.6 tan 6 deg) = 79 % of the width.
+  const int mid = 50;
+  auto colour = [&](int x) { return image.at(x, mid); };
+  // Outside the ball: seen directly.
+  EXPECT_GT(colour(2).x, 0.9);
+  EXPECT_LT(colour(2).z, 0.1);
+  EXPECT_GT(colour(98).z, 0.9);
+  // Inside the ball, a third of its radius off centre: the other side of the backdrop (minus
+  // Fresnel reflection of the black studio, about 2 % at each of two surfaces).
+  const Vec3 leftInside = colour(mid - 13), rightInside = colour(mid + 13);
+  EXPECT_GT(leftInside.z, 0.8) << "left of centre through the ball should show the blue (right) half";
+  EXPECT_LT(leftInside.x, 0.1);
+  EXPECT_GT(rightInside.x, 0.8) << "right of centre through the ball should show the red (left) half";
+  EXPECT_LT(rightInside.z, 0.1);
+}
+
+TEST(Render, AbsorptionFollowsBeerLambert) {
+  // Slabs of a clear absorbing medium with n = 1 (no refraction, no Fresnel reflection) in front
+  // of a white emitter: transmitted radiance must be exp(-sigma d) per channel. No randomness
+  // changes a straight path, so the tolerance is float rounding (1e-5 relative).
+  const Vec3 sigma{5, 20, 40};  // 1/m
+  for (const Real d : {0.01, 0.05}) {
+    MaterialSpec clear;
+    clear.ior = 1.0;
+    clear.absorption = sigma;
+    std::vector<Surface> surfaces;
+    surfaces.push_back({"slab", boxMesh({-1, -1, -d}, {1, 1, 0}), clear});
+    surfaces.push_back({"white", boxMesh({-1, -1, -0.51}, {1, 1, -0.5}), emitter({1, 1, 1})});
+    RenderSettings s = darkStudio(9, 9, 2);
+    s.cameraPosition = {0, 0, 0.5};
+    s.lookAt = {0, 0, 0};
+    s.fov = 1;  // nearly parallel rays: path length in the slab d / cos(0.5 deg)
+    const Image image = PathTracer(std::move(surfaces), s).render(0);
+    const Vec3 c = image.at(4, 4);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(c[k], std::exp(-sigma[k] * d), 1e-4 * std::exp(-sigma[k] * d) + 1e-6) << "channel " << k << ", d = " << d;
+  }
+}
+
+TEST(Render, SameBitsOnAnyThreadCount) {
+  Image one, two;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = waterBallInGlass({"render.samples=8"});
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 3);
+    two = waterBallInGlass({"render.samples=8"});
+  }
+  ASSERT_EQ(one.rgb.size(), two.rgb.size());
+  EXPECT_TRUE(one.rgb == two.rgb) << "image bits depend on the thread count";
+}
+
+TEST(RenderGolden, WaterBallInGlass) {
+  const auto d = checkGolden("water_ball_in_glass", waterBallInGlass());
+  EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
+}
+
+TEST(RenderGolden, ChangedMaterialFails) {
+  // Water turned amber: the frame-diff test must notice.
+  const auto d = render::compareImages(render::readImage(goldenDir() + "/water_ball_in_glass.png"),
+                                       waterBallInGlass({"render.material.water.absorption=[1.0, 3.0, 25.0]"}), 0.016);
+  EXPECT_FALSE(d.passes(1.0)) << "only " << d.failedPercent() << " % of pixels changed";
+}
+
+TEST(RenderGolden, AirBubbleInWater) {
+  // A bubble (its own level set, priority above water) inside a block of water in a glass box:
+  // nested dielectrics resolve the overlap.
+  const char* text = R"(
+[scene]
+name = "bubble"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.1, -0.1, -0.1]
+domain_max = [0.1, 0.2, 0.1]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+[[phase]]
+name = "air"
+rest_density = 100.0
+stiffness = 1000.0
+[[solid]]
+name = "tank"
+shape = "box"
+min = [-0.05, 0.0, -0.05]
+max = [0.05, 0.1, 0.05]
+open_top = true
+[[fluid]]
+phase = "water"
+min = [-0.05, 0.0, -0.05]
+max = [0.05, 0.08, 0.05]
+[effects.gravity]
+[render]
+width = 160
+height = 90
+samples = 64
+camera_position = [0.05, 0.1, 0.3]
+look_at = [0.0, 0.04, 0.0]
+fov = 35
+light_position = [-0.3, 0.5, 0.3]
+light_radius = 0.08
+checker_size = 0.02
+)";
+  const Scene sc = parseScene(text, "bubble");
+  auto water = openvdb::tools::createLevelSetBox<openvdb::FloatGrid>(
+      openvdb::BBoxd(openvdb::Vec3d(-0.05, 0, -0.05), openvdb::Vec3d(0.05, 0.08, 0.05)), *openvdb::math::Transform::createLinearTransform(0.002));
+  std::vector<Surface> surfaces;
+  surfaces.push_back({"water", render::levelSetMesh(*water), sc.render.phaseMaterials[0]});
+  surfaces.push_back({"air", render::levelSetMesh(*sphere(0.015, {0, 0.04f, 0})), sc.render.phaseMaterials[1]});
+  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  const auto d = checkGolden("air_bubble_in_water", PathTracer(std::move(surfaces), sc.render).render(0));
+  EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
+}
+
+TEST(RenderGolden, WaxBlobInLamp) {
+  // A translucent scattering wax blob in the lamp's clear fluid, lit from below by the bulb.
+  const char* text = R"(
+[scene]
+name = "lamp"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.2, -0.1, -0.2]
+domain_max = [0.2, 1.3, 0.2]
+[solver]
+particle_spacing = 0.02
+[[phase]]
+name = "fluid"
+rest_density = 500.0
+stiffness = 1000.0
+[[phase]]
+name = "wax"
+rest_density = 1000.0
+stiffness = 1000.0
+[[solid]]
+name = "vessel"
+shape = "revolution"
+base = [0.0, 0.0, 0.0]
+profile = [[0.0, 0.13], [0.35, 0.17], [0.8, 0.15], [1.15, 0.10]]
+[[fluid]]
+phase = "fluid"
+min = [-0.1, 0.0, -0.1]
+max = [0.1, 0.9, 0.1]
+[effects.gravity]
+[render]
+width = 90
+height = 160
+samples = 64
+camera_position = [0.0, 0.6, 2.2]
+look_at = [0.0, 0.55, 0.0]
+fov = 34
+sky_zenith = [0.05, 0.05, 0.08]
+sky_horizon = [0.1, 0.1, 0.12]
+light_position = [0.0, -0.12, 0.0]
+light_radius = 0.08
+light_emission = [60.0, 50.0, 30.0]
+checker_size = 0.0
+[render.material.fluid]
+ior = 1.34
+absorption = [0.3, 0.6, 0.2]
+[render.material.vessel]
+thickness = 0.006
+)";
+  const Scene sc = parseScene(text, "lamp");
+  std::vector<Surface> surfaces;
+  auto blob = sphere(0.09, {0.02f, 0.45f, 0}, 0.004f);
+  surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
+  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  const auto d = checkGolden("wax_blob_in_lamp", PathTracer(std::move(surfaces), sc.render).render(0));
+  EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
+}
