@@ -50,6 +50,7 @@ void writeImage(const std::string& path, const Image& image) {
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
     spec.attribute("oiio:ColorSpace", "Linear");
     spec.attribute("compression", "zip");
+    spec.attribute("DateTime", "");  // else the current time: equal images must give equal files
     ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
   }
   const std::string error = out->geterror();

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
 # End-to-end tests of the multifluid command: a run killed with SIGKILL and re-run gives the same
-# files, bit for bit, as an uninterrupted run; validate reports broken files; bad options fail.
+# files (particles, level sets, images, movie), bit for bit, as an uninterrupted run; stages re-run
+# alone; diff passes equal and fails different sequences; validate reports broken files; bad
+# options fail.
 set -euo pipefail
 bin=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
-args=(run dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --threads 2)
+args=(run dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --threads 2 --resolution 64x36 --samples 2)
 last=particles.0015.vdb
 
 "$bin" "${args[@]}" --out "$work/straight" 2> "$work/straight.log" || fail "uninterrupted run failed: $(cat "$work/straight.log")"
@@ -39,8 +41,44 @@ for f in "$work"/straight/surface/*.vdb; do
   m=$((m + 1))
 done
 [ "$m" -eq 16 ] || fail "expected 16 surface frames, compared $m"
-ls "$work/killed/particles" | grep -q '\.tmp$' && fail "temporary files left behind"
-echo "resume: $n particle frames and $m surface frames bit-identical"
+r=0
+for f in "$work"/straight/render/*.png "$work"/straight/render/*.exr; do
+  cmp -s "$f" "$work/killed/render/$(basename "$f")" || fail "render $(basename "$f") differs after kill and resume"
+  r=$((r + 1))
+done
+[ "$r" -eq 32 ] || fail "expected 16 PNG and 16 EXR frames, compared $r"
+cmp -s "$work/straight/dam_break.mp4" "$work/killed/dam_break.mp4" || fail "the movies differ after kill and resume"
+ls "$work/killed/particles" "$work/killed/render" | grep -q '\.tmp' && fail "temporary files left behind"
+echo "resume: $n particle frames, $m surface frames, $r images and the movie bit-identical"
+
+# diff: equal sequences pass; a changed material fails, with difference images written.
+"$bin" diff "$work/straight/render" "$work/killed/render" > "$work/diff_equal.out" || fail "diff of equal sequences failed: $(cat "$work/diff_equal.out")"
+grep -q "32 frame(s) compared, 0 failed, 0 missing" "$work/diff_equal.out" || fail "diff summary: $(cat "$work/diff_equal.out")"
+rargs=(dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --samples 2 --threads 2)
+"$bin" render "${rargs[@]}" --frames 3 --out "$work/killed" 2> "$work/render.log" || fail "render stage failed"
+grep -q "0 frame(s) rendered" "$work/render.log" || fail "finished render frames were redone"
+rm "$work/killed/render/"*
+"$bin" render "${rargs[@]}" --set 'render.material.water.absorption=[60.0, 8.0, 1.0]' --out "$work/killed" 2> /dev/null ||
+  fail "render stage failed"
+set +e
+"$bin" diff "$work/straight/render" "$work/killed/render" --out "$work/diffs" > "$work/diff_changed.out"
+status=$?
+set -e
+[ "$status" -eq 1 ] || fail "diff of different sequences exited $status: $(cat "$work/diff_changed.out")"
+ls "$work/diffs"/*.diff.png > /dev/null 2>&1 || fail "no difference images written"
+"$bin" diff "$work/straight/render/render.0003.png" "$work/straight/render/render.0003.png" > /dev/null || fail "diff of a file with itself failed"
+
+# preview and encode alone: previews from particle files (here frames 4-9 only), and a movie
+# from them when no rendered frames exist.
+mkdir -p "$work/pv/particles"
+for f in 4 5 6 7 8 9; do cp "$work/straight/particles/particles.000$f.vdb" "$work/pv/particles/"; done
+"$bin" preview dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --frames 0-15 \
+  --out "$work/pv" 2> "$work/preview.log" || fail "preview failed: $(cat "$work/preview.log")"
+[ -e "$work/pv/preview/preview.0005.png" ] || fail "no preview frame 5: $(cat "$work/preview.log")"
+"$bin" encode dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --out "$work/pv" \
+  2> "$work/encode.log" || fail "encode failed: $(cat "$work/encode.log")"
+grep -q "6 preview frames from 4" "$work/encode.log" || fail "encode did not use the preview frames: $(cat "$work/encode.log")"
+[ -s "$work/pv/dam_break.mp4" ] || fail "no movie"
 
 # A re-run of a finished output directory computes nothing new and changes nothing.
 cp "$work/straight/particles/$last" "$work/last.vdb"
