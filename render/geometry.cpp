@@ -1,11 +1,13 @@
 #include "geometry.h"
 
 #include <openvdb/tools/Interpolation.h>
+#include <openvdb/tree/LeafManager.h>
 
 #include <cmath>
 
 #include "sim/solids.h"
 #include "surfacing/mesh_io.h"
+#include "surfacing/particle_surface.h"
 
 namespace mf::render {
 
@@ -115,6 +117,23 @@ RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet) {
   m.triangles.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) m.triangles.push_back({t[0], t[1], t[2]});
   return m;
+}
+
+void wetContainerWalls(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, double depth) {
+  if (solids.empty() || depth <= 0) return;
+  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
+  const openvdb::math::Transform& xform = grid.transform();
+  leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+    for (auto v = leaf.beginValueOn(); v; ++v) {
+      const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
+      double phi = v.getValue();
+      for (const SolidSpec& c : solids) {
+        const double w = std::abs(surfacing::containerDistance(c, p));
+        if (w < depth) phi = std::min(phi, std::max(phi - depth, w - depth));
+      }
+      v.setValue(float(phi));
+    }
+  });
 }
 
 RenderMesh solidMesh(const SolidSpec& s, Real t, int segments) {

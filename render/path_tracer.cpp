@@ -187,7 +187,7 @@ struct PathTracer::Impl {
   }
 
   Vec3 sky(const Vec3& d) const {
-    if (d.y < 0) return settings.skyHorizon * 0.25;  // below the horizon: a dim ground
+    if (d.y < 0) return settings.skyGround;
     const Real t = std::sqrt(d.y);
     return settings.skyHorizon * (1 - t) + settings.skyZenith * t;
   }

@@ -24,13 +24,16 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   std::vector<Surface> surfaces;
   {
     openvdb::io::File file(surfaceFile);
-    file.open(false);
+    file.open(false);  // grids are modified below: no delayed loading
     for (uint16_t p : scene.render.phases) {
       const std::string& name = scene.phases[p].name;
       if (!file.hasGrid(name))
         throw std::runtime_error(surfaceFile + " has no level set \"" + name + "\" (is it in surfacing.phases?)");
       auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
       if (!grid) throw std::runtime_error(surfaceFile + ": grid \"" + name + "\" is not a float grid");
+      // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
+      // voxel size), which would render as films of air.
+      wetContainerWalls(*grid, scene.solids, 2.0 * grid->voxelSize()[0]);
       RenderMesh mesh = levelSetMesh(*grid);
       if (mesh.size() > 0) surfaces.push_back({name, std::move(mesh), scene.render.phaseMaterials[p]});
     }

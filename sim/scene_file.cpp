@@ -407,6 +407,7 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.fov = t.number("fov", o.fov, 1, 170, "degrees", false);
   o.skyZenith = t.vec3("sky_zenith", o.skyZenith, 0, 1e6, "(relative radiance)");
   o.skyHorizon = t.vec3("sky_horizon", o.skyHorizon, 0, 1e6, "(relative radiance)");
+  o.skyGround = t.vec3("sky_ground", o.skyHorizon * 0.25, 0, 1e6, "(relative radiance)");
   o.lightPosition = t.vec3("light_position", o.lightPosition);
   o.lightRadius = t.number("light_radius", o.lightRadius, 0, 1e6, "m");
   o.lightEmission = t.vec3("light_emission", o.lightEmission, 0, 1e9, "(relative radiance)");
