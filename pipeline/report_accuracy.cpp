@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <map>
 
@@ -36,6 +38,8 @@ struct Measured {
   size_t particles = 0;
   uint64_t steps = 0;
   double wall = 0;        // s: construction and stepping, without our measurement callbacks
+  double cpu = 0;         // CPU s of all threads over the same span
+  double load = 0;        // 1-minute load average after the run
   double error = kNaN;    // the problem's error (NaN: the run stopped)
   std::vector<double> extras;
   std::string status = "ok";
@@ -47,19 +51,28 @@ struct Problem {
   std::vector<std::string> extraColumns;
   std::vector<Setting> ladder;
   std::function<Measured(const Setting&)> run;
+  int altExtra = -1;       // an extra that is a second error with its own Pareto front, or -1
+  std::string altName;     // its name in plots and tables
+  double errorOf(const Measured& m, bool alt) const {
+    return !alt ? m.error : size_t(altExtra) < m.extras.size() ? m.extras[size_t(altExtra)] : kNaN;
+  }
 };
 
 // Wall time of construction and stepping; the time our own per-step measurements take is
 // subtracted so that the figures are what a user's run would cost.
 struct Stopwatch {
   Clock::time_point t0 = Clock::now();
-  double excluded = 0;
+  double cpu0 = processCpuSeconds();
+  double excluded = 0, excludedCpu = 0;
   double elapsed() const { return secondsSince(t0) - excluded; }
+  double cpu() const { return processCpuSeconds() - cpu0 - excludedCpu; }
   template <class F>
   void exclude(F&& f) {
     const auto c0 = Clock::now();
+    const double cpu = processCpuSeconds();
     f();
     excluded += secondsSince(c0);
+    excludedCpu += processCpuSeconds() - cpu;
   }
 };
 
@@ -80,6 +93,8 @@ Measured runCase(const Scene& scene, const std::function<void(Simulation&, Stopw
     m.status = std::string("stopped: ") + e.what();
   }
   m.wall = sw.elapsed();
+  m.cpu = sw.cpu();
+  m.load = loadAverage1();
   m.steps = sim.stepCount();
   return m;
 }
@@ -448,7 +463,8 @@ std::vector<Problem> problems(bool quick) {
               "The embedded scene `dam_break` (a = 2.25 in = 0.05715 m, a column a x 2a x a in a tank 5a x 3a x a, "
               "k = 400 m^2/s^2, mu = 0.05 Pa s) with `solver.particle_spacing = a/n` and the time-step factor f, "
               "run to T = 3.",
-              {"rms_Z_shifted", "rms_H", "rms_H_shifted"}, {}, runDamBreak};
+              {"rms_Z_shifted", "rms_H", "rms_H_shifted"}, {}, runDamBreak, 0,
+              "RMS error of Z, time shifted by 0.175"};
     auto add = [&](int n, double f) { p.ladder.push_back(rung(kA / n, f, "", fmt::format("a/{}", n))); };
     if (quick) {
       add(8, 1), add(8, 2);
@@ -466,7 +482,7 @@ std::vector<Problem> problems(bool quick) {
               "0.3 s .. 0.6 s",
               "A water column 0.1 x 0.14 x 0.1 m (rho0 = 1000, k = 1000, mu = 0.5 Pa s) in a box, damped "
               "(40/s) until 0.3 s; variants: plain kernel gradient, or `gradient_correction = 1`.",
-              {"max_bin_error", "bins"}, {}, runHydrostatic};
+              {"max_bin_error", "bins"}, {}, runHydrostatic, -1, ""};
     auto add = [&](double s, double f, const char* v) { p.ladder.push_back(rung(s, f, v, mm(s))); };
     if (quick) {
       add(0.01, 1, "plain"), add(0.01, 1, "corrected");
@@ -483,7 +499,7 @@ std::vector<Problem> problems(bool quick) {
               "at t = 1 s",
               "Two slabs at 0 and 1 degree side by side (0.2 m each, cross-section max(6 cm, 8 spacings)), "
               "alpha = 1e-3 m^2/s, particles at rest; f scales the diffusion stability factor (0.5 f, at most 1).",
-              {"max_abs_error"}, {}, runHeat};
+              {"max_abs_error"}, {}, runHeat, -1, ""};
     auto add = [&](double s, double f) { p.ladder.push_back(rung(s, f, "", mm(s))); };
     if (quick) {
       add(0.02, 1), add(0.01, 1);
@@ -500,7 +516,7 @@ std::vector<Problem> problems(bool quick) {
               "over the total mass",
               "Heavy fluid (1000 kg/m^3) above light (500 kg/m^3), 6 cm each in a 0.1 x 0.2 x 0.05 m box, "
               "k = 200, mu = 0.5 Pa s, jitter 0.1 spacing; variants: `density_formulation` mass (eq. 1) or number.",
-              {"heavy_wrong_fraction", "light_wrong_fraction"}, {}, runLayered};
+              {"heavy_wrong_fraction", "light_wrong_fraction"}, {}, runLayered, -1, ""};
     auto add = [&](double s, double f, const char* v) { p.ladder.push_back(rung(s, f, v, mm(s))); };
     if (quick) {
       add(0.01, 1, "mass"), add(0.01, 1, "number");
@@ -516,10 +532,19 @@ std::vector<Problem> problems(bool quick) {
 
 // ---- output --------------------------------------------------------------------------------
 
-Table resultTable(const Problem& p, const std::vector<Measured>& results, const std::vector<bool>& front) {
+std::vector<bool> frontOf(const Problem& p, const std::vector<Measured>& r, bool alt) {
+  std::vector<double> walls, errors;
+  for (const auto& m : r) walls.push_back(m.wall), errors.push_back(p.errorOf(m, alt));
+  return paretoFront(walls, errors);
+}
+
+// Columns `pareto` and `status` come last (the CI check reads them there).
+Table resultTable(const Problem& p, const std::vector<Measured>& results) {
+  const std::vector<bool> front = frontOf(p, results, false), altFront = frontOf(p, results, true);
   Table t;
-  t.header = {"problem", "setting", "spacing_m", "dt_factor", "variant", "particles", "steps", "wall_s", "error"};
+  t.header = {"problem", "setting", "spacing_m", "dt_factor", "variant", "particles", "steps", "wall_s", "cpu_s", "load_1min", "error"};
   for (const auto& e : p.extraColumns) t.header.push_back(e);
+  if (p.altExtra >= 0) t.header.push_back("pareto_" + p.extraColumns[size_t(p.altExtra)]);
   t.header.push_back("pareto");
   t.header.push_back("status");
   for (size_t k = 0; k < results.size(); ++k) {
@@ -527,8 +552,9 @@ Table resultTable(const Problem& p, const std::vector<Measured>& results, const 
     const Measured& m = results[k];
     std::vector<std::string> row = {p.name, s.label, fmtNumber(s.spacing, 6), fmtNumber(s.dtFactor), s.variant,
                                     std::to_string(m.particles), std::to_string(m.steps), fmt::format("{:.3f}", m.wall),
-                                    fmtNumber(m.error, 4)};
+                                    fmt::format("{:.3f}", m.cpu), fmt::format("{:.2f}", m.load), fmtNumber(m.error, 4)};
     for (size_t e = 0; e < p.extraColumns.size(); ++e) row.push_back(e < m.extras.size() ? fmtNumber(m.extras[e], 4) : "-");
+    if (p.altExtra >= 0) row.push_back(altFront[k] ? "1" : "0");
     row.push_back(front[k] ? "1" : "0");
     row.push_back(m.status);
     t.add(row);
@@ -536,37 +562,49 @@ Table resultTable(const Problem& p, const std::vector<Measured>& results, const 
   return t;
 }
 
-// Error (log) against wall time (log), every setting labelled, the Pareto front joined.
-std::string paretoScript(const Problem& p, const std::vector<Measured>& r, const std::vector<bool>& front,
-                         const Machine& machine) {
-  std::string all, best;
+// Gnuplot data block of (wall, error, label) of the settings with an error, by wall time;
+// `onlyFront` keeps the Pareto points (joined by a line in the plot).
+std::string dataBlock(const std::string& name, const Problem& p, const std::vector<Measured>& r, bool alt, bool onlyFront) {
+  const std::vector<bool> front = frontOf(p, r, alt);
   std::vector<size_t> order;
   for (size_t k = 0; k < r.size(); ++k)
-    if (std::isfinite(r[k].error) && r[k].error > 0) order.push_back(k);
+    if (std::isfinite(p.errorOf(r[k], alt)) && p.errorOf(r[k], alt) > 0 && (!onlyFront || front[k])) order.push_back(k);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return r[a].wall < r[b].wall; });
-  for (size_t k : order) {
-    const std::string line = fmt::format("{:.6g} {:.6g} \"{}\"\n", r[k].wall, r[k].error, escapeGnuplot(p.ladder[k].label));
-    all += line;
-    if (front[k]) best += line;
+  std::string out = "$" + name + " << EOD\n";
+  for (size_t k : order)
+    out += fmt::format("{:.6g} {:.6g} \"{}\"\n", r[k].wall, p.errorOf(r[k], alt), escapeGnuplot(p.ladder[k].label));
+  return out + "EOD\n";
+}
+
+// Error (log) against wall time (log), every setting labelled, the Pareto front joined; a
+// problem with a second error gets its points and front in blue.
+std::string paretoScript(const Problem& p, const std::vector<Measured>& r, const Machine& machine) {
+  std::string data = dataBlock("all", p, r, false, false) + dataBlock("front", p, r, false, true);
+  std::string plots = fmt::format(
+      "$all using 1:2 with points pt 7 ps 1.3 lc rgb \"#7f7f7f\" title \"{}\", \\\n"
+      "     $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb \"#d62728\" title \"Pareto front\", \\\n"
+      "     $all using 1:2:3 with labels left offset 1,0.6 font \"sans,8\" notitle",
+      escapeGnuplot(p.errorName));
+  if (p.altExtra >= 0) {
+    data += dataBlock("alt", p, r, true, false) + dataBlock("altfront", p, r, true, true);
+    plots += fmt::format(
+        ", \\\n     $alt using 1:2 with points pt 5 ps 1.1 lc rgb \"#1f77b4\" title \"{}\", \\\n"
+        "     $altfront using 1:2 with linespoints lw 2 pt 4 ps 2.0 lc rgb \"#1f77b4\" dt 2 title \"its Pareto front\", \\\n"
+        "     $alt using 1:2:3 with labels left offset 1,-0.6 font \"sans,8\" tc rgb \"#1f77b4\" notitle",
+        escapeGnuplot(p.altName));
   }
   return fmt::format(R"gp(set terminal pngcairo size 900,600 noenhanced font "sans,10"
 set output "accuracy_{name}.png.tmp"
-$all << EOD
-{all}EOD
-$front << EOD
-{best}EOD
-set logscale xy
+{data}set logscale xy
 set grid
 set title "{title}"
 set xlabel "wall time (s), {machine}"
 set ylabel "{error} (log)"
 set key top right
-set offsets graph 0.05, graph 0.2, graph 0.1, graph 0.1
-plot $all using 1:2 with points pt 7 ps 1.3 lc rgb "#7f7f7f" title "setting", \
-     $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb "#d62728" title "Pareto front", \
-     $all using 1:2:3 with labels left offset 1,0.6 font "sans,8" notitle
+set offsets graph 0.05, graph 0.25, graph 0.1, graph 0.1
+plot {plots}
 )gp",
-                     fmt::arg("name", p.name), fmt::arg("all", all), fmt::arg("best", best),
+                     fmt::arg("name", p.name), fmt::arg("data", data), fmt::arg("plots", plots),
                      fmt::arg("title", escapeGnuplot(p.title)), fmt::arg("machine", escapeGnuplot(machine.cpuModel)),
                      fmt::arg("error", escapeGnuplot(p.errorName)));
 }
@@ -601,17 +639,19 @@ plot {plots}$exp using 1:2 with points pt 7 ps 1.5 lc rgb "black" title "Martin 
 }
 
 // For each budget, the lowest-error setting that ran within it.
-std::string budgetTable(const Problem& p, const std::vector<Measured>& r) {
+std::string budgetTable(const Problem& p, const std::vector<Measured>& r, bool alt) {
   std::string out = "| time budget | best setting | error | wall time |\n|---|---|---|---|\n";
   double maxWall = 0;
   for (const auto& m : r) maxWall = std::max(maxWall, m.wall);
   for (double budget : {0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0, 1000.0}) {
     int best = -1;
-    for (size_t k = 0; k < r.size(); ++k)
-      if (r[k].wall <= budget && std::isfinite(r[k].error) && (best < 0 || r[k].error < r[size_t(best)].error)) best = int(k);
+    for (size_t k = 0; k < r.size(); ++k) {
+      const double e = p.errorOf(r[k], alt);
+      if (r[k].wall <= budget && std::isfinite(e) && (best < 0 || e < p.errorOf(r[size_t(best)], alt))) best = int(k);
+    }
     if (best < 0) continue;
     out += fmt::format("| {} s | {} | {} | {:.2f} s |\n", budget, p.ladder[size_t(best)].label,
-                       fmtNumber(r[size_t(best)].error, 3), r[size_t(best)].wall);
+                       fmtNumber(p.errorOf(r[size_t(best)], alt), 3), r[size_t(best)].wall);
     if (budget >= maxWall) break;  // every setting fits: larger budgets say nothing new
   }
   return out;
@@ -634,37 +674,62 @@ std::string frontCsv(const Problem& p, const std::vector<Measured>& r) {
   return out;
 }
 
-std::string section(const Problem& p, Table t, const std::vector<Measured>& r) {
-  std::string out = fmt::format("## {}: {}\n\n{}\n\n**Error**: {}.\n\n", p.name, p.title, p.method, p.errorDefinition);
-  if (p.name == "dam_break") out += shiftNote() + "\n";
+struct RunInfo {
+  std::string commandLine, date, machine, loadStart, loadEnd, ladder;
+  double seconds = 0;
+};
+
+// One problem's part of the page, saved on its own so that `--only NAME` can re-run one problem
+// and the page is put together again from every problem's latest part.
+std::string section(const Problem& p, Table t, const std::vector<Measured>& r, const RunInfo& info) {
+  std::string out = fmt::format("## {}: {}\n\n*Measured by `{}` on {}, {} ladder, in {}. Machine: {}; load average "
+                                "{} at the start, {} at the end.*\n\n{}\n\n**Error**: {}.\n\n",
+                                p.name, p.title, info.commandLine, info.date, info.ladder, formatDuration(info.seconds),
+                                info.machine, info.loadStart, info.loadEnd, p.method, p.errorDefinition);
+  if (p.altExtra >= 0) out += shiftNote() + "\n";
   out += fmt::format("![error against wall time](accuracy_{}.png)\n\n", p.name);
-  const size_t pareto = t.column("pareto");
-  for (auto& row : t.rows) row[pareto] = row[pareto] == "1" ? "**yes**" : "";
-  std::vector<std::string> cols = {"setting", "particles", "steps", "wall_s", "error"};
+  std::vector<std::string> cols = {"setting", "particles", "steps", "wall_s", "cpu_s", "load_1min", "error"};
   for (const auto& e : p.extraColumns) cols.push_back(e);
-  cols.push_back("pareto");
+  for (size_t c = 0; c < t.header.size(); ++c)
+    if (t.header[c].rfind("pareto", 0) == 0) {
+      cols.push_back(t.header[c]);
+      for (auto& row : t.rows) row[c] = row[c] == "1" ? "**yes**" : "";
+    }
   const bool anyFailed = std::any_of(r.begin(), r.end(), [](const Measured& m) { return m.status != "ok"; });
   if (anyFailed) cols.push_back("status");
   out += t.markdown(cols) + "\n";
   out += "Best setting for a time budget (the lowest error among the settings that ran within it, on this "
-         "machine):\n\n" + budgetTable(p, r) + "\n";
+         "machine):\n\n" + budgetTable(p, r, false) + "\n";
+  if (p.altExtra >= 0)
+    out += fmt::format("The same by {}:\n\n{}\n", p.altName, budgetTable(p, r, true));
   if (p.name == "dam_break") out += "![surge front against the experiment](dam_break_front.png)\n\n";
   return out;
 }
 
-std::string pageHeader(const Options& opt, const Machine& machine) {
-  return fmt::format(
-      "# Accuracy against run time\n\n"
-      "Generated by `{}` on {}.\n\n"
-      "**Machine**: {}; load average {} at the start. Every wall time below was measured there, one setting at "
-      "a time, in one process; it covers building the simulation and stepping it, not the report's own "
-      "measurements.\n\n"
-      "**Ladder**: {}. The time-step factor f scales the time-step criteria: `solver.cfl` = 0.4 f and "
-      "`solver.force_factor` = 0.25 f (heat diffusion: its `stability_factor` = 0.5 f, at most 1). Every "
-      "setting is a scene-file value; nothing is fitted to the reference data. A setting the watchdog stopped "
-      "has no error and is left out of the Pareto front. The Pareto front holds the settings that no other "
-      "setting beats in both wall time and error.\n\n",
-      opt.commandLine, utcNow(), machine.describe(), loadAverage(), opt.quick ? "quick (the CI check, not for conclusions)" : "full");
+std::string pageHeader() {
+  return "# Accuracy against run time\n\n"
+         "Each problem below runs a ladder of settings, one at a time in one process, on the machine its "
+         "section names. `wall_s` covers building the simulation and stepping it, not the report's own "
+         "measurements; `cpu_s` is the CPU time of all threads over the same span and `load_1min` the machine's "
+         "1-minute load average after the setting: where the load exceeds the core count, other work competed "
+         "for the cores and the wall time is inflated.\n\n"
+         "The time-step factor f scales the time-step criteria: `solver.cfl` = 0.4 f and "
+         "`solver.force_factor` = 0.25 f (heat diffusion: its `stability_factor` = 0.5 f, at most 1). Every "
+         "setting is a scene-file value; nothing is fitted to the reference data. A setting the watchdog stopped "
+         "has no error and is left out of the Pareto front, which holds the settings that no other setting beats "
+         "in both wall time and error.\n\n";
+}
+
+// The page: the header and every problem's latest section found in the folder, in ladder order.
+std::string assemblePage(const fs::path& out) {
+  std::string page = pageHeader();
+  for (const auto& p : problems(false)) {
+    const fs::path part = out / ("accuracy_" + p.name + ".md");
+    if (!fs::exists(part)) continue;
+    std::ifstream in(part);
+    page += std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  return page;
 }
 
 }  // namespace
@@ -678,9 +743,10 @@ int runAccuracy(const Options& opt, const Machine& machine) {
   size_t total = 0, done = 0;
   for (const auto& p : list) total += p.ladder.size();
   const fs::path out(opt.out);
-  std::string page = pageHeader(opt, machine);
   bool plotsOk = true;
   for (const Problem& p : list) {
+    const auto problemStart = Clock::now();
+    RunInfo info{opt.commandLine, utcNow(), machine.describe(), loadAverage(), "", opt.quick ? "quick (CI check)" : "full"};
     std::vector<Measured> results;
     for (const Setting& s : p.ladder) {
       results.push_back(p.run(s));
@@ -689,22 +755,19 @@ int runAccuracy(const Options& opt, const Machine& machine) {
                  total, p.name, s.label, m.particles, m.steps, m.wall, fmtNumber(m.error, 4),
                  m.status == "ok" ? "" : " [" + m.status + "]", formatDuration(secondsSince(start)));
     }
-    std::vector<double> walls, errors;
-    for (const auto& m : results) walls.push_back(m.wall), errors.push_back(m.error);
-    const std::vector<bool> front = paretoFront(walls, errors);
-    const Table t = resultTable(p, results, front);
+    info.loadEnd = loadAverage();
+    info.seconds = secondsSince(problemStart);
+    const Table t = resultTable(p, results);
     writeText((out / ("accuracy_" + p.name + ".csv")).string(), t.csv());
-    plotsOk &= plot(opt, "accuracy_" + p.name, paretoScript(p, results, front, machine),
+    plotsOk &= plot(opt, "accuracy_" + p.name, paretoScript(p, results, machine),
                     (out / ("accuracy_" + p.name + ".png")).string());
     if (p.name == "dam_break") {
       writeText((out / "dam_break_front.csv").string(), frontCsv(p, results));
       plotsOk &= plot(opt, "dam_break_front", frontScript(p, results), (out / "dam_break_front.png").string());
     }
-    page += section(p, t, results);
+    writeText((out / ("accuracy_" + p.name + ".md")).string(), section(p, t, results, info));
   }
-  page += fmt::format("Total time of this report: {} ({}; load average {} at the end).\n",
-                      formatDuration(secondsSince(start)), machine.describe(), loadAverage());
-  writeText((out / "accuracy.md").string(), page);
+  writeText((out / "accuracy.md").string(), assemblePage(out));
   fmt::print(stderr, "report accuracy: {} settings in {} on {}; wrote {}\n", total, formatDuration(secondsSince(start)),
              machine.describe(), (out / "accuracy.md").string());
   return plotsOk ? 0 : 4;

@@ -34,7 +34,7 @@ struct Outcome {
   uint64_t steps = 0, retries = 0, lost = 0;
   int64_t troubleStep = -1;       // first step the watchdog retried, or the step it gave up on
   double troubleTime = kNaN;
-  double maxDensityError = 0, drift = kNaN, growth = kNaN, wall = 0;
+  double maxDensityError = 0, drift = kNaN, growth = kNaN, wall = 0, cpu = 0;
   bool stopped = false;
   std::string message;
   std::string status;  // stable, recovered, stopped, lost particles
@@ -262,6 +262,7 @@ std::string classify(const Outcome& o) {
 Outcome runOne(const Case& c) {
   Outcome o;
   const auto t0 = Clock::now();
+  const double cpu0 = processCpuSeconds();
   Simulation sim(c.scene);
   o.particles = sim.particles().size();
   const Vec3 g = gravityOf(c.scene);
@@ -282,6 +283,7 @@ Outcome runOne(const Case& c) {
     if (o.troubleStep < 0) o.troubleStep = int64_t(sim.stepCount()), o.troubleTime = sim.time();
   }
   o.wall = secondsSince(t0);
+  o.cpu = processCpuSeconds() - cpu0;
   const double e1 = energy(sim, g, floorY);
   o.steps = sim.stepCount();
   o.retries = sim.counters().retries;
@@ -300,7 +302,7 @@ Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   Table t;
   t.header = {"sweep", "case", "parameter", "value", "particles", "end_time_s", "status", "stable", "steps", "retries",
               "first_trouble_step", "first_trouble_time_s", "max_density_error", "energy_drift", "energy_growth_max",
-              "lost_particles", "wall_s", "message"};
+              "lost_particles", "wall_s", "cpu_s", "message"};
   for (size_t k = 0; k < cs.size(); ++k) {
     const Case& c = cs[k];
     const Outcome& o = os[k];
@@ -308,7 +310,7 @@ Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
            o.status, o.stable() ? "yes" : "no", std::to_string(o.steps), std::to_string(o.retries),
            o.troubleStep < 0 ? "-" : std::to_string(o.troubleStep), fmtNumber(o.troubleTime, 4),
            fmtNumber(o.maxDensityError, 3), fmtNumber(o.drift, 3), fmtNumber(o.growth, 3), std::to_string(o.lost),
-           fmt::format("{:.2f}", o.wall), o.message});
+           fmt::format("{:.2f}", o.wall), fmt::format("{:.2f}", o.cpu), o.message});
   }
   return t;
 }
@@ -408,7 +410,7 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       opt.quick ? 0.1 : 0.3, 100 * kEnergyGrowthLimit);
   out += "## Limits found\n\n" + limits(cs, os) + "\n![stability](stability.png)\n\n## All cases\n\n";
   out += t.markdown({"sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
-                     "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s"}) +
+                     "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s", "cpu_s"}) +
          "\n## Watchdog messages\n\n";
   for (size_t k = 0; k < cs.size(); ++k)
     if (!os[k].message.empty()) out += fmt::format("- {} {}: {}\n", cs[k].sweep, cs[k].label, os[k].message);

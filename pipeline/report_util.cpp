@@ -49,6 +49,19 @@ std::string loadAverage() {
   return a + " " + b + " " + c;
 }
 
+double loadAverage1() {
+  std::ifstream in("/proc/loadavg");
+  double a = -1;
+  in >> a;
+  return a;
+}
+
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
 std::string utcNow() {
   const std::time_t t = std::time(nullptr);
   char buf[64];

@@ -31,6 +31,11 @@ std::string loadAverage();
 
 using Clock = std::chrono::steady_clock;
 inline double secondsSince(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+/// CPU seconds of this process, all threads: beside the wall time, it shows what other work on a
+/// shared machine took away (wall time grows with the load, CPU time hardly).
+double processCpuSeconds();
+/// The 1-minute load average alone, per run.
+double loadAverage1();
 std::string utcNow();
 
 /// A table of preformatted cells, written as CSV (every column) and as Markdown.
