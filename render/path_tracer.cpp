@@ -209,7 +209,9 @@ struct PathTracer::Impl {
   }
 
   /// The nearest hit along o + t d, t in (0, tfar); `leaving`: the geometry o lies on, or -1.
-  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, uint64_t& rays, std::vector<RecordedRay>* record) const {
+  /// `shading`: also the interpolated shading normal (shadow rays need only the geometric one).
+  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, uint64_t& rays, std::vector<RecordedRay>* record,
+                bool shading = true) const {
     Hit hit;
     SkipContext skip;
     rtcInitIntersectContext(&skip.context);
@@ -236,16 +238,16 @@ struct PathTracer::Impl {
       hit.kind = Hit::Mesh;
       hit.t = best;
       hit.material = int(rh.hit.geomID);
-      const RenderMesh& m = surfaces[rh.hit.geomID].mesh;
-      const auto& tri = m.triangles[rh.hit.primID];
-      const Vec3 a{m.positions[tri[0]].x, m.positions[tri[0]].y, m.positions[tri[0]].z};
-      const Vec3 b{m.positions[tri[1]].x, m.positions[tri[1]].y, m.positions[tri[1]].z};
-      const Vec3 c{m.positions[tri[2]].x, m.positions[tri[2]].y, m.positions[tri[2]].z};
-      hit.ng = normalize(cross(b - a, c - a));
-      const Real u = rh.hit.u, v = rh.hit.v;
-      const auto& na = m.normals[tri[0]], &nb = m.normals[tri[1]], &nc = m.normals[tri[2]];
-      hit.ns = normalize(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
-      if (dot(hit.ns, hit.ng) <= 0) hit.ns = hit.ng;
+      // Embree's Ng is cross(v1 - v0, v2 - v0): outward for our counter-clockwise meshes.
+      hit.ng = normalize(Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
+      if (shading) {
+        const RenderMesh& m = surfaces[rh.hit.geomID].mesh;
+        const auto& tri = m.triangles[rh.hit.primID];
+        const Real u = rh.hit.u, v = rh.hit.v;
+        const auto& na = m.normals[tri[0]], &nb = m.normals[tri[1]], &nc = m.normals[tri[2]];
+        hit.ns = normalize(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
+        if (dot(hit.ns, hit.ng) <= 0) hit.ns = hit.ng;
+      }
     }
     if (settings.floor && d.y < 0 && o.y > settings.floorHeight) {
       const Real t = (settings.floorHeight - o.y) / d.y;
@@ -272,7 +274,7 @@ struct PathTracer::Impl {
                      std::vector<RecordedRay>* record) const {
     Vec3 T{1, 1, 1};
     for (int crossing = 0; crossing < 32; ++crossing) {
-      const Hit h = intersect(o, d, dist, leaving, rays, record);
+      const Hit h = intersect(o, d, dist, leaving, rays, record, false);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
