@@ -6,6 +6,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels.h"
@@ -29,6 +30,25 @@ struct StepContext {
   const NeighborLists& boundaryNeighbors;  // fluid-boundary, rows per particle
   const BoundarySamples& boundary;
   Real time;
+  // The grids behind the lists (built from the current positions), for effects that must look
+  // around points that are not particles (where a new particle would go): build a CellGrid of
+  // the points with `gridOrigin` and h, and call its findNeighbors against these.
+  const CellGrid* fluidGrid = nullptr;
+  const CellGrid* boundaryGrid = nullptr;  // null when the scene has no solids
+  Vec3 gridOrigin;
+  Real particleSpacing = 0;
+};
+
+/// Births and removals that effects ask for after an accepted step. The simulation applies them
+/// once all effects have decided, on the same state: removals keep the order (and ids) of the
+/// survivors, births are appended in the order given and get ids from the simulation's counter,
+/// which only grows (stored in checkpoints), so an id is never reused. For the same bits on any
+/// thread count an effect must fill `births` in an order that does not depend on threads (e.g.
+/// decide per particle in parallel, then walk the particles in index order).
+struct ParticleEdits {
+  std::vector<uint8_t> remove;       // one flag per particle (size n); non-zero: remove
+  std::vector<ParticleInit> births;  // new particles
+  std::vector<uint32_t> bornBy;      // per birth, the index of the effect that asked (for counts)
 };
 
 class Effect {
@@ -49,6 +69,20 @@ class Effect {
   virtual void advance(const StepContext&, ParticleSet&, Real /*dt*/) {}
   /// Sets derived state once after seeding (e.g. rest density from the start temperature).
   virtual void prepare(ParticleSet&) {}
+
+  /// True if this effect creates or removes particles (editParticles is then called).
+  virtual bool editsParticles() const { return false; }
+  /// Called after advance() on every accepted step: flag particles in edits.remove (never clear
+  /// another effect's flag) and append to edits.births. Neighbour lists in ctx are current.
+  virtual void editParticles(const StepContext&, const ParticleSet&, ParticleEdits&) {}
+
+  /// State that is not in the particles (emitter counters, a heat exchanger's temperature):
+  /// written into checkpoints and read back, so that a resumed run continues bit for bit.
+  virtual std::vector<uint8_t> saveState() const { return {}; }
+  virtual void loadState(const std::vector<uint8_t>&) {}
+
+  /// Numbers worth reporting (births, removals by cause, ...), name and value.
+  virtual std::vector<std::pair<std::string, double>> statistics() const { return {}; }
 };
 
 /// One parameter of an effect as the scene file gives it.
@@ -70,6 +104,9 @@ struct EffectParam {
 struct EffectList {
   std::string key, doc;
   std::vector<EffectParam> params;
+  /// Optional check of one entry beyond the per-key ranges: returns (key, message) problems,
+  /// reported with the entry's file and line.
+  std::function<std::vector<std::pair<std::string, std::string>>(const ParamValues&)> check = {};
 };
 
 struct EffectInfo {
@@ -79,6 +116,9 @@ struct EffectInfo {
   std::function<std::unique_ptr<Effect>(const EffectSpec&, const Scene&)> create;
   std::vector<EffectList> lists;
   std::vector<std::string> phaseKeys;  // [[phase]] keys this effect reads (for the reference and checks)
+  /// Optional check of the whole table beyond per-key ranges (e.g. two phases that must differ):
+  /// returns (key, message) problems, reported with the table's file and line.
+  std::function<std::vector<std::pair<std::string, std::string>>(const EffectSpec&, const Scene&)> check = {};
 
   using Factory = std::function<std::unique_ptr<Effect>(const EffectSpec&, const Scene&)>;
   EffectInfo(std::string n, std::string d, std::vector<EffectParam> p, Factory c, std::vector<EffectList> l = {},

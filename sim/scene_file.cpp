@@ -290,6 +290,12 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.maxRetries = int(s.number("max_retries", o.maxRetries, 0, 40));
 }
 
+/// A problem with `key` of the table `t`: at the key's line if it is given, else the table's.
+void reportAt(Reader& r, TableReader& t, const std::string& key, const std::string& message) {
+  if (t.has(key)) r.problem(t.node(key), t.path(key), message);
+  else r.problemAt(t.line(), t.path(key), message);
+}
+
 /// One effect parameter into `out`: a number, a vector, or phase names (stored as indices).
 void readEffectParam(Reader& r, TableReader& t, const EffectParam& p, const Scene& sc, ParamValues& out) {
   const bool required = p.defaults.empty();
@@ -631,6 +637,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         if (!t.boolean("enabled", true)) continue;
         EffectSpec spec;
         spec.name = info.name;
+        const size_t effectProblems = r.problems.size();
         for (const EffectParam& p : info.params) readEffectParam(r, t, p, sc, spec);
         for (const EffectList& l : info.lists) {
           auto& entries = spec.lists[l.key];
@@ -638,10 +645,15 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           for (size_t k = 0; k < tables.size(); ++k) {
             TableReader e(r, tables[k], fmt::format("effects.{}.{}[{}]", info.name, l.key, k));
             ParamValues values;
+            const size_t entryProblems = r.problems.size();
             for (const EffectParam& p : l.params) readEffectParam(r, e, p, sc, values);
+            if (l.check && r.problems.size() == entryProblems)  // only on values that passed their ranges
+              for (const auto& [key, message] : l.check(values)) reportAt(r, e, key, message);
             entries.push_back(values);
           }
         }
+        if (info.check && r.problems.size() == effectProblems)
+          for (const auto& [key, message] : info.check(spec, sc)) reportAt(r, t, key, message);
         sc.effects.push_back(spec);
       }
       for (auto&& [k, v] : *et)

@@ -66,6 +66,33 @@ Real latticeKernelSum(const SphKernels& K, Real s) {
   return sumOverRestLattice(K, s, [&](int i, int j, int k) { return K.poly6Checked(s * s * Real(i * i + j * j + k * k)); });
 }
 
+Real phaseParticleMass(const PhaseSpec& ph, const SphKernels& kernels, Real spacing) {
+  return ph.particleMass > 0 ? ph.particleMass : ph.restDensity / latticeKernelSum(kernels, spacing);
+}
+
+ParticleInit newParticleOfPhase(const PhaseSpec& ph, uint16_t phaseIndex, Real mass, const Vec3& x, const Vec3& v,
+                                Real temperature) {
+  ParticleInit p;
+  p.phase = phaseIndex;
+  p.position = x;
+  p.velocity = v;
+  p.restDensity = ph.restDensity;
+  p.mass = mass;
+  p.viscosity = ph.viscosity;
+  p.stiffness = ph.stiffness;
+  p.interfaceColour = ph.interfaceColour;
+  p.surfaceColour = ph.surfaceColour;
+  p.temperature = temperature;
+  return p;
+}
+
+std::vector<Real> phaseParticleMasses(const Scene& scene) {
+  const SphKernels K(scene.solver.particleSpacing * scene.solver.smoothingRatio);
+  std::vector<Real> m;
+  for (const PhaseSpec& ph : scene.phases) m.push_back(phaseParticleMass(ph, K, scene.solver.particleSpacing));
+  return m;
+}
+
 Real latticeGradientMoment(const SphKernels& K, Real s) {
   const Real volume = 1.0 / latticeKernelSum(K, s);
   return sumOverRestLattice(K, s, [&](int i, int j, int k) {
@@ -192,7 +219,9 @@ void Simulation::seedFluid() {
 }
 
 StepContext Simulation::context() const {
-  return {kernels_, fluidNeighbors_, boundaryNeighbors_, boundary_, time_};
+  return {kernels_,    fluidNeighbors_, boundaryNeighbors_,
+          boundary_,   time_,           &fluidGrid_,
+          boundary_.size() > 0 ? &boundaryGrid_ : nullptr, gridOrigin_, scene_.solver.particleSpacing};
 }
 
 void Simulation::refresh() { searchAndDensity(); }
@@ -368,6 +397,48 @@ void Simulation::removeOutOfDomain() {
   searchAndDensity();
 }
 
+void Simulation::editParticles() {
+  // Scenes whose effects never create or remove particles keep the plain domain check.
+  bool anyEditor = false;
+  for (const auto& e : effects_) anyEditor |= e->editsParticles();
+  if (!anyEditor) {
+    removeOutOfDomain();
+    return;
+  }
+  const size_t n = ps_.size();
+  ParticleEdits edits;
+  edits.remove.assign(n, 0);
+  const StepContext ctx = context();
+  for (size_t k = 0; k < effects_.size(); ++k) {
+    if (!effects_[k]->editsParticles()) continue;
+    const auto t0 = Clock::now();
+    effects_[k]->editParticles(ctx, ps_, edits);
+    edits.bornBy.resize(edits.births.size(), uint32_t(k));
+    times_.effect[k] += since(t0);
+  }
+  const auto t0 = Clock::now();
+  uint64_t byEffects = 0, outside = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (edits.remove[i]) {
+      ++byEffects;
+      continue;
+    }
+    const Vec3& x = ps_.position[i];
+    for (int a = 0; a < 3; ++a)
+      if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) edits.remove[i] = 1;
+    outside += edits.remove[i] ? 1 : 0;
+  }
+  if (byEffects + outside > 0) ps_.removeFlagged(edits.remove);
+  counters_.removedByEffects += byEffects;
+  counters_.removedOutOfDomain += outside;
+  // Births in the order the effects gave them; ids from the counter, which only grows.
+  ps_.reserve(ps_.size() + edits.births.size());
+  for (const ParticleInit& p : edits.births) ps_.append(nextId_++, p);
+  counters_.born += edits.births.size();
+  if (byEffects + outside > 0 || !edits.births.empty()) searchAndDensity();
+  times_.integrate += since(t0);
+}
+
 Real Simulation::step(Real maxDt) {
   const SolverSettings& st = scene_.solver;
   if (counters_.steps > 0 && counters_.steps % uint64_t(st.reorderInterval) == 0) {
@@ -416,7 +487,7 @@ Real Simulation::step(Real maxDt) {
   counters_.maxDensityError = std::max(counters_.maxDensityError, parallelMax(ps_.size(), [&](size_t i) {
     return ps_.density[i] / ps_.restDensity[i] - 1;
   }));
-  removeOutOfDomain();
+  editParticles();
   return dt;
 }
 
@@ -437,7 +508,7 @@ void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>&
 // ---- checkpoints ---------------------------------------------------------------------------
 
 namespace {
-constexpr char kMagic[8] = {'M', 'F', 'C', 'K', 'P', 'T', '0', '1'};
+constexpr char kMagic[8] = {'M', 'F', 'C', 'K', 'P', 'T', '0', '2'};
 
 template <class T>
 void put(std::ostream& o, const T& v) {
@@ -470,6 +541,15 @@ void Simulation::saveCheckpoint(const std::string& path, int frame) const {
       put(o, uint32_t(sizeof(v[0])));
       o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(v[0])));
     });
+    // State the effects keep outside the particles (emitter counters, heat exchangers).
+    put(o, uint32_t(effects_.size()));
+    for (const auto& e : effects_) {
+      const std::vector<uint8_t> state = e->saveState();
+      put(o, uint32_t(std::strlen(e->name())));
+      o.write(e->name(), std::streamsize(std::strlen(e->name())));
+      put(o, uint64_t(state.size()));
+      o.write(reinterpret_cast<const char*>(state.data()), std::streamsize(state.size()));
+    }
     o.write(kMagic, 8);  // trailer: a truncated file is detected
     if (!o) throw std::runtime_error("error writing checkpoint " + tmp);
   }
@@ -498,6 +578,18 @@ int Simulation::loadCheckpoint(const std::string& path) {
     v.resize(n);
     in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(v[0])));
   });
+  if (get<uint32_t>(in) != effects_.size()) throw std::runtime_error(path + ": checkpoint layout differs (effects)");
+  for (const auto& e : effects_) {
+    const uint32_t len = get<uint32_t>(in);
+    std::string stored(len < 256 ? len : 0, '\0');
+    in.read(stored.data(), std::streamsize(stored.size()));
+    const uint64_t bytes = get<uint64_t>(in);
+    if (!in || stored != e->name() || bytes > (uint64_t(1) << 32))
+      throw std::runtime_error(path + ": checkpoint layout differs (effect " + stored + ")");
+    std::vector<uint8_t> state(bytes);
+    in.read(reinterpret_cast<char*>(state.data()), std::streamsize(bytes));
+    e->loadState(state);
+  }
   if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0) throw std::runtime_error(path + ": truncated checkpoint");
   searchAndDensity();
   return frame;

@@ -31,6 +31,8 @@ struct SimulationCounters {
   uint64_t retries = 0;            // steps redone with half the dt by the watchdog
   uint64_t removedOutOfDomain = 0; // particles that left the domain box
   uint64_t wallClamps = 0;         // particles put back inside a container by the position clamp
+  uint64_t born = 0;               // particles created by effects (emitters, trapped air)
+  uint64_t removedByEffects = 0;   // particles removed by effects (sinks, air deletion, vapour leaving)
   Real lastDt = 0;
   Real maxDensityError = 0;        // largest (rho - rho0)/rho0 seen after any accepted step
 };
@@ -68,6 +70,8 @@ class Simulation {
   /// Distance of the wall samples outside the containers' surfaces (wallSampleOffset).
   Real wallOffset() const { return wallOffset_; }
   const std::vector<std::unique_ptr<Effect>>& effects() const { return effects_; }
+  /// The id the next new particle gets; ids below it were given out once and are never reused.
+  uint64_t nextId() const { return nextId_; }
 
   /// One sub-step of at most `maxDt` seconds (the adaptive dt may be smaller); returns dt.
   Real step(Real maxDt);
@@ -90,6 +94,8 @@ class Simulation {
   /// Index of the first particle that breaks a watchdog rule, or -1; fills `why`.
   int64_t findInvalidParticle(Real dt, std::string& why, std::string& parameter) const;
   void removeOutOfDomain();
+  /// Births and removals of the effects that edit particles, and the domain check, in one pass.
+  void editParticles();
   void checkInputs() const;
   StepContext context() const;
 
@@ -126,6 +132,20 @@ Real sumOverRestLattice(const SphKernels& kernels, Real spacing, F&& f) {
 /// number density of a particle inside a uniform block. Used to give seeded particles a mass
 /// so that the block starts exactly at rest density.
 Real latticeKernelSum(const SphKernels& kernels, Real spacing);
+
+/// The mass of a particle of phase `ph`: its particle_mass, or rest density / latticeKernelSum
+/// (so that the seeding lattice is at rest density). Seeding and every effect that creates
+/// particles use this one rule.
+Real phaseParticleMass(const PhaseSpec& ph, const SphKernels& kernels, Real spacing);
+
+/// A new particle of `phase` (index `phaseIndex`) with the given mass (phaseParticleMass), the
+/// phase's material values, at x with velocity v and temperature T.
+ParticleInit newParticleOfPhase(const PhaseSpec& phase, uint16_t phaseIndex, Real mass, const Vec3& x, const Vec3& v,
+                                Real temperature);
+
+/// phaseParticleMass for every phase of a scene, from its spacing and smoothing ratio (for
+/// effects that create particles; they are built before the simulation's kernels exist).
+std::vector<Real> phaseParticleMasses(const Scene& scene);
 
 /// sum_j V (x_j - x_i)_y d/dy_i W_spiky over the same lattice (1 for an exact gradient).
 Real latticeGradientMoment(const SphKernels& kernels, Real spacing);

@@ -16,5 +16,10 @@ EffectInfo surfaceTensionInfo();
 EffectInfo heatDiffusionInfo();
 EffectInfo dyeDiffusionInfo();
 EffectInfo thermalExpansionInfo();
+EffectInfo buoyancyInfo();
+EffectInfo flameHeatingInfo();
+EffectInfo phaseChangeInfo();
+EffectInfo trappedAirInfo();
+EffectInfo emitterInfo();
 
 }  // namespace mf::effects

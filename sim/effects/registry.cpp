@@ -10,10 +10,16 @@ const std::vector<EffectInfo>& effectRegistry() {
       effects::viscosityInfo(),
       effects::interfaceTensionInfo(),
       effects::surfaceTensionInfo(),
+      effects::buoyancyInfo(),
       effects::dampingInfo(),
       effects::heatDiffusionInfo(),
       effects::dyeDiffusionInfo(),
+      effects::flameHeatingInfo(),
+      effects::phaseChangeInfo(),  // after the heat has moved; before expansion sets water's rho0(T)
       effects::thermalExpansionInfo(),
+      // Births and removals (editParticles) run after every advance(), in this order.
+      effects::trappedAirInfo(),
+      effects::emitterInfo(),
   };
   return registry;
 }

@@ -1,0 +1,324 @@
+// Phase transition (Mueller et al. 2005, section 5.2: boiling water) and the heat that drives it.
+//
+// phase_change, after every accepted step:
+//  - Evaporation. A liquid particle hotter than the boiling temperature becomes vapour where
+//    vapour can nucleate: within site_radius of one of the N cavitation sites (points drawn at
+//    random, seeded, in a box on the heated bottom; the paper: 5), or next to vapour already
+//    there (a bubble grows by evaporating the hot water at its wall). Its phase, viscosity,
+//    stiffness and colours become the vapour's; its mass is kept.
+//  - Expansion. The new vapour particle starts at the liquid's rest density, which then falls
+//    towards the vapour's at expansion_rate, rho0 <- max(rho0_v, rho0 exp(-r dt)), but never so
+//    fast that the particle's compression rho/rho0 - 1 exceeds 25 % (half the watchdog's default
+//    limit): the vapour pushes the water aside (the bubble grows) at the pace the pressure can
+//    move it. Jumping straight to the vapour's rest density would make the particle 10x
+//    compressed, which the watchdog rightly refuses. With mass kept and the number-density
+//    formulation a particle can reach rho0_v only if it has few neighbours within h: a lone
+//    particle's own kernel weight is about 0.2 of a full neighbourhood, so a vapour rest density
+//    of 0.3 rho0_w or more is the useful range (the scene uses 300 kg/m^3).
+//  - Condensation. Vapour colder than boiling_temperature - condensation_margin becomes liquid
+//    again: phase, rest density, viscosity, stiffness and colours of the liquid (at once: an
+//    under-dense particle has zero pressure, nothing to refuse).
+//  - Leaving. Vapour at the top of the particle set (OpenSurfaceRule of colour_fields.h, the
+//    rule trapped air uses) is removed: the bubble has burst.
+// Decisions are made per particle from the state before any change, then applied; removals in
+// index order: the same result on any number of threads.
+//
+// flame_heating: the flame particles heat the glass, the glass heats the water. The wall samples
+// carry no temperature, so the glass's heated bottom is one heat exchanger with one temperature
+// T_g (checkpointed): it follows the mean temperature of the flame particles in a box under the
+// glass, dT_g/dt = r_f (T_flames - T_g) (unchanged while no flame is there), and liquid particles
+// in a box just inside the bottom follow it, dT_i/dt = r_l (min(T_g, T_max) - T_i). Both are
+// integrated exactly over the step (exponential decay), so no time-step limit. T_max stands for
+// what the simplification leaves out: water boiling on the glass keeps it a little above 100 deg C
+// however hot the flame, and the glass itself does not lose heat.
+#include <fmt/format.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "../simulation.h"
+#include "builtin.h"
+#include "colour_fields.h"
+
+namespace mf::effects {
+
+namespace {
+
+uint64_t splitmix(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ULL;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+  return x ^ (x >> 31);
+}
+Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 9007199254740992.0); }
+
+bool inBox(const Vec3& x, const Vec3& lo, const Vec3& hi) {
+  return x.x >= lo.x && x.y >= lo.y && x.z >= lo.z && x.x <= hi.x && x.y <= hi.y && x.z <= hi.z;
+}
+
+struct PhaseChangeParams {
+  uint16_t liquid = 0, vapour = 1;
+  Real boiling = 100, margin = 2;
+  int sites = 5;
+  Vec3 siteMin, siteMax;
+  uint64_t seed = 1;
+  Real siteRadius = 1.5;  // spacings
+  Real expansionRate = 20;
+  OpenSurfaceRule open;
+};
+
+class PhaseChange final : public Effect {
+ public:
+  PhaseChange(const Scene& scene, PhaseChangeParams p) : p_(std::move(p)), liquid_(scene.phases.at(p_.liquid)), vapour_(scene.phases.at(p_.vapour)) {
+    for (int k = 0; k < p_.sites; ++k) {
+      const uint64_t base = splitmix(p_.seed * 0x100000001b3ULL + uint64_t(k));
+      const Vec3 u(uniform01(base + 1), uniform01(base + 2), uniform01(base + 3));
+      sites_.push_back({p_.siteMin.x + u.x * (p_.siteMax.x - p_.siteMin.x), p_.siteMin.y + u.y * (p_.siteMax.y - p_.siteMin.y),
+                        p_.siteMin.z + u.z * (p_.siteMax.z - p_.siteMin.z)});
+    }
+    isLiquid_.assign(scene.phases.size(), 0);
+    isLiquid_[p_.liquid] = 1;
+    want_.assign(scene.phases.size(), 0);
+    want_[p_.vapour] = 1;
+    p_.open.up = normalize(p_.open.up);
+  }
+  const char* name() const override { return "phase_change"; }
+  AttributeMask requiredAttributes() const override { return bit(Attribute::Temperature); }
+  void accumulateForces(const StepContext&, ParticleSet&) override {}
+
+  void advance(const StepContext& ctx, ParticleSet& ps, Real dt) override {
+    const size_t n = ps.size();
+    const NeighborLists& nf = ctx.fluidNeighbors;
+    const Real r2site = (p_.siteRadius * ctx.particleSpacing) * (p_.siteRadius * ctx.particleSpacing);
+    change_.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const Real T = ps.temperature[i];
+        if (ps.phase[i] == p_.liquid && T > p_.boiling) {
+          bool nucleus = false;
+          for (const Vec3& s : sites_) nucleus |= lengthSquared(ps.position[i] - s) <= r2site;
+          for (uint64_t k = nf.begin(i), e = nf.end(i); k < e && !nucleus; ++k) nucleus = ps.phase[nf.indices[k]] == p_.vapour;
+          change_[i] = nucleus ? 1 : 0;
+        } else if (ps.phase[i] == p_.vapour && T < p_.boiling - p_.margin) {
+          change_[i] = 2;
+        }
+      }
+    });
+    const Real decay = std::exp(-p_.expansionRate * dt);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        if (change_[i] == 1) becomes(ps, i, p_.vapour, vapour_, ps.restDensity[i]);
+        else if (change_[i] == 2) becomes(ps, i, p_.liquid, liquid_, liquid_.restDensity);
+        else if (ps.phase[i] == p_.vapour) {
+          // Expansion towards the vapour's rest density, at most 25 % compression at a time.
+          const Real target = std::max(ps.restDensity[i] * decay, ps.density[i] / 1.25);
+          ps.restDensity[i] = std::max(vapour_.restDensity, std::min(ps.restDensity[i], target));
+        }
+      }
+    });
+    for (size_t i = 0; i < n; ++i) {
+      evaporated_ += change_[i] == 1;
+      condensed_ += change_[i] == 2;
+    }
+  }
+
+  bool editsParticles() const override { return true; }
+  void editParticles(const StepContext& ctx, const ParticleSet& ps, ParticleEdits& edits) override {
+    computeColourGradients(ctx, ps, isLiquid_, want_, grad_);
+    const size_t n = ps.size();
+    leave_.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        if (ps.phase[i] == p_.vapour && p_.open.gradientSaysOpen(grad_.all[i], ctx.kernels.h)) leave_[i] = 1;
+    });
+    p_.open.confirmWithProbe(ctx, ps, leave_, 1);
+    for (size_t i = 0; i < n; ++i)
+      if (leave_[i] && !edits.remove[i]) {
+        edits.remove[i] = 1;
+        ++left_;
+      }
+  }
+
+  std::vector<uint8_t> saveState() const override {
+    const uint64_t v[3] = {evaporated_, condensed_, left_};
+    return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(v), reinterpret_cast<const uint8_t*>(v) + sizeof v);
+  }
+  void loadState(const std::vector<uint8_t>& b) override {
+    uint64_t v[3];
+    if (b.size() != sizeof v) throw std::runtime_error("checkpoint: phase_change state has the wrong size");
+    std::memcpy(v, b.data(), sizeof v);
+    evaporated_ = v[0];
+    condensed_ = v[1];
+    left_ = v[2];
+  }
+  std::vector<std::pair<std::string, double>> statistics() const override {
+    return {{"evaporated", double(evaporated_)}, {"condensed", double(condensed_)}, {"left_at_surface", double(left_)}};
+  }
+  const std::vector<Vec3>& sites() const { return sites_; }
+
+ private:
+  static void becomes(ParticleSet& ps, size_t i, uint16_t phase, const PhaseSpec& ph, Real restDensity) {
+    ps.phase[i] = phase;
+    ps.restDensity[i] = restDensity;
+    ps.viscosity[i] = ph.viscosity;
+    ps.stiffness[i] = ph.stiffness;
+    if (ps.has(Attribute::InterfaceColour)) ps.interfaceColour[i] = ph.interfaceColour;
+    if (ps.has(Attribute::SurfaceColour)) ps.surfaceColour[i] = ph.surfaceColour;
+  }
+
+  PhaseChangeParams p_;
+  PhaseSpec liquid_, vapour_;
+  std::vector<Vec3> sites_;
+  std::vector<uint8_t> isLiquid_, want_, change_, leave_;
+  ColourGradients grad_;
+  uint64_t evaporated_ = 0, condensed_ = 0, left_ = 0;
+};
+
+struct FlameHeatingParams {
+  uint16_t flame = 0, liquid = 0;
+  Vec3 flameMin, flameMax, wallMin, wallMax;
+  Real flameRate = 1, liquidRate = 5, wallTemperature = 20, maxWallTemperature = 1e4;
+};
+
+class FlameHeating final : public Effect {
+ public:
+  explicit FlameHeating(FlameHeatingParams p) : p_(p), wallT_(p.wallTemperature) {}
+  const char* name() const override { return "flame_heating"; }
+  AttributeMask requiredAttributes() const override { return bit(Attribute::Temperature); }
+  void accumulateForces(const StepContext&, ParticleSet&) override {}
+
+  void advance(const StepContext&, ParticleSet& ps, Real dt) override {
+    // Mean flame temperature in the box, summed in index order (the same bits on any thread count).
+    Real sum = 0;
+    size_t count = 0;
+    for (size_t i = 0; i < ps.size(); ++i)
+      if (ps.phase[i] == p_.flame && inBox(ps.position[i], p_.flameMin, p_.flameMax)) {
+        sum += ps.temperature[i];
+        ++count;
+      }
+    const Real seen = std::min(wallT_, p_.maxWallTemperature);
+    const Real toLiquid = 1 - std::exp(-p_.liquidRate * dt);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        if (ps.phase[i] == p_.liquid && inBox(ps.position[i], p_.wallMin, p_.wallMax))
+          ps.temperature[i] += (seen - ps.temperature[i]) * toLiquid;
+    });
+    if (count > 0) wallT_ += (sum / Real(count) - wallT_) * (1 - std::exp(-p_.flameRate * dt));
+    flamesSeen_ = count;
+  }
+
+  std::vector<uint8_t> saveState() const override {
+    std::vector<uint8_t> b(sizeof(Real) + sizeof(uint64_t));
+    std::memcpy(b.data(), &wallT_, sizeof(Real));
+    std::memcpy(b.data() + sizeof(Real), &flamesSeen_, sizeof(uint64_t));
+    return b;
+  }
+  void loadState(const std::vector<uint8_t>& b) override {
+    if (b.size() != sizeof(Real) + sizeof(uint64_t)) throw std::runtime_error("checkpoint: flame_heating state has the wrong size");
+    std::memcpy(&wallT_, b.data(), sizeof(Real));
+    std::memcpy(&flamesSeen_, b.data() + sizeof(Real), sizeof(uint64_t));
+  }
+  std::vector<std::pair<std::string, double>> statistics() const override {
+    return {{"wall_temperature", wallT_}, {"flames_under_glass", double(flamesSeen_)}};
+  }
+
+ private:
+  FlameHeatingParams p_;
+  Real wallT_;
+  uint64_t flamesSeen_ = 0;
+};
+
+std::vector<std::pair<std::string, std::string>> checkBox(const ParamValues& v, const char* lo, const char* hi) {
+  const Vec3 a = v.vector(lo), b = v.vector(hi);
+  for (int k = 0; k < 3; ++k)
+    if (!(a[k] < b[k])) return {{hi, std::string("must be greater than ") + lo + " in every component"}};
+  return {};
+}
+
+}  // namespace
+
+EffectInfo phaseChangeInfo() {
+  EffectInfo info{
+      "phase_change",
+      "boiling: liquid above the boiling temperature at a cavitation site (or next to vapour) becomes vapour, vapour that "
+      "cools condenses, vapour at the surface leaves (section 5.2)",
+      {{"liquid", 1, 0, 0, {}, "", "the liquid phase", 1},
+       {"vapour", 1, 0, 0, {}, "", "its vapour phase", 1},
+       {"boiling_temperature", 1, -273.15, 1e4, {100.0}, "deg C", "liquid hotter than this can evaporate"},
+       {"condensation_margin", 1, 0, 1e3, {2.0}, "K", "vapour colder than boiling_temperature - margin condenses"},
+       {"sites", 1, 0, 1e4, {5.0}, "", "number of cavitation sites (the paper: 5)"},
+       {"site_min", 3, -1e6, 1e6, {}, "m", "box the sites are drawn in (the heated bottom)"},
+       {"site_max", 3, -1e6, 1e6, {}, "m", "box corner"},
+       {"seed", 1, 0, 9e15, {1.0}, "", "random seed of the sites"},
+       {"site_radius", 1, 0, 10, {1.5}, "spacings", "liquid within this distance of a site can nucleate"},
+       {"expansion_rate", 1, 0, 1e4, {20.0}, "1/s", "new vapour's rest density falls towards the vapour's at this rate"},
+       {"surface_threshold", 1, 0.01, 10, {0.6}, "1/h", "vapour with |grad c_a| above this at the top of the particles leaves"},
+       {"surface_cosine", 1, -1, 1, {0.5}, "", "... with the normal pointing down: n . up < -surface_cosine"},
+       {"probe", 1, 0, 3, {1.0}, "h", "... and no particles this far above it (0: no probe)"},
+       {"up", 3, -1e3, 1e3, {0.0, 1.0, 0.0}, "", "the up direction"}},
+      [](const EffectSpec& spec, const Scene& scene) {
+        PhaseChangeParams p;
+        p.liquid = uint16_t(spec.number("liquid"));
+        p.vapour = uint16_t(spec.number("vapour"));
+        p.boiling = spec.number("boiling_temperature");
+        p.margin = spec.number("condensation_margin");
+        p.sites = int(spec.number("sites"));
+        p.siteMin = spec.vector("site_min");
+        p.siteMax = spec.vector("site_max");
+        p.seed = uint64_t(spec.number("seed"));
+        p.siteRadius = spec.number("site_radius");
+        p.expansionRate = spec.number("expansion_rate");
+        p.open = {spec.number("surface_threshold"), spec.number("surface_cosine"), spec.number("probe"), spec.vector("up")};
+        return std::make_unique<PhaseChange>(scene, p);
+      }};
+  info.check = [](const EffectSpec& spec, const Scene&) {
+    std::vector<std::pair<std::string, std::string>> problems;
+    if (spec.number("liquid") == spec.number("vapour")) problems.push_back({"vapour", "must differ from liquid"});
+    if (lengthSquared(spec.vector("up")) == 0) problems.push_back({"up", "must not be zero"});
+    for (const auto& pr : checkBox(spec, "site_min", "site_max")) problems.push_back(pr);
+    return problems;
+  };
+  return info;
+}
+
+EffectInfo flameHeatingInfo() {
+  EffectInfo info{
+      "flame_heating",
+      "flame particles under a glass heat its bottom (one exchanger temperature), which heats the liquid on it",
+      {{"flame", 1, 0, 0, {}, "", "the flame phase", 1},
+       {"liquid", 1, 0, 0, {}, "", "the liquid heated", 1},
+       {"flame_min", 3, -1e6, 1e6, {}, "m", "box under the glass whose flame particles heat it"},
+       {"flame_max", 3, -1e6, 1e6, {}, "m", "box corner"},
+       {"wall_min", 3, -1e6, 1e6, {}, "m", "box just inside the glass bottom whose liquid it heats"},
+       {"wall_max", 3, -1e6, 1e6, {}, "m", "box corner"},
+       {"flame_rate", 1, 0, 1e4, {1.0}, "1/s", "r_f: dT_g/dt = r_f (mean flame temperature - T_g)"},
+       {"liquid_rate", 1, 0, 1e4, {5.0}, "1/s", "r_l: dT/dt = r_l (min(T_g, max_wall_temperature) - T) for liquid in the wall box"},
+       {"wall_temperature", 1, -273.15, 1e4, {20.0}, "deg C", "T_g at the start"},
+       {"max_wall_temperature", 1, -273.15, 1e4, {1e4}, "deg C", "the liquid never sees the glass hotter than this"}},
+      [](const EffectSpec& spec, const Scene&) {
+        FlameHeatingParams p;
+        p.flame = uint16_t(spec.number("flame"));
+        p.liquid = uint16_t(spec.number("liquid"));
+        p.flameMin = spec.vector("flame_min");
+        p.flameMax = spec.vector("flame_max");
+        p.wallMin = spec.vector("wall_min");
+        p.wallMax = spec.vector("wall_max");
+        p.flameRate = spec.number("flame_rate");
+        p.liquidRate = spec.number("liquid_rate");
+        p.wallTemperature = spec.number("wall_temperature");
+        p.maxWallTemperature = spec.number("max_wall_temperature");
+        return std::make_unique<FlameHeating>(p);
+      }};
+  info.check = [](const EffectSpec& spec, const Scene&) {
+    std::vector<std::pair<std::string, std::string>> problems;
+    if (spec.number("liquid") == spec.number("flame")) problems.push_back({"liquid", "must differ from flame"});
+    for (const auto& pr : checkBox(spec, "flame_min", "flame_max")) problems.push_back(pr);
+    for (const auto& pr : checkBox(spec, "wall_min", "wall_max")) problems.push_back(pr);
+    return problems;
+  };
+  return info;
+}
+
+}  // namespace mf::effects
