@@ -238,7 +238,10 @@ until = {settle}
 Measured runHydrostatic(const Setting& s) {
   const Scene scene = hydrostaticScene(s);
   const double rho0 = 1000, w = kColumnWidth;
-  std::map<int, std::pair<double, double>> bins;  // bin -> (sum dt p, sum dt rho0 g (H - y))
+  struct BinSums {
+    double p = 0, expected = 0, weight = 0;  // sums of dt p, dt rho0 g (H - y), dt
+  };
+  std::map<int, BinSums> bins;
   double H = 0, h = 0;
   Measured m = runCase(scene, [&](Simulation& sim, Stopwatch& sw) {
     h = sim.kernels().h;
@@ -254,8 +257,9 @@ Measured runHydrostatic(const Setting& s) {
           const Vec3 p = ps.position[i];
           if (p.x < h || p.x > w - h || p.z < h || p.z > w - h) continue;
           auto& b = bins[int(std::floor(p.y / h))];
-          b.first += dt * ps.pressure[i];
-          b.second += dt * rho0 * kG * (H - p.y);
+          b.p += dt * ps.pressure[i];
+          b.expected += dt * rho0 * kG * (H - p.y);
+          b.weight += dt;
         }
       });
     });
@@ -265,9 +269,11 @@ Measured runHydrostatic(const Setting& s) {
   int n = 0;
   for (const auto& [bin, sums] : bins) {
     if (bin * h < 2 * h - 1e-9 || (bin + 1) * h > H - 2 * h) continue;
-    const double e = sums.first / sums.second - 1;
+    // Normalised by the bottom pressure: relative to the local pressure, the bins nearest the
+    // surface (included only at fine spacings) would dominate and hide the convergence.
+    const double e = (sums.p - sums.expected) / sums.weight / (rho0 * kG * H);
     sum += e * e;
-    worst = std::max(worst, std::fabs(e));
+    worst = std::max(worst, std::fabs(sums.p / sums.expected - 1));
     ++n;
   }
   m.error = n > 0 ? std::sqrt(sum / n) : kNaN;
@@ -349,7 +355,7 @@ Measured runHeat(const Setting& s) {
 
 // ---- two fluids layered ----------------------------------------------------------------------
 
-constexpr double kLayerTime = 2.0, kLayer = 0.06;
+constexpr double kLayerTime = 4.0, kLayer = 0.06;
 
 // Rayleigh-Taylor: the heavy fluid (1000 kg/m^3) starts above the light one (500 kg/m^3), both
 // jittered by 0.1 spacing (seeded) so that the overturn does not wait on rounding noise; viscosity
@@ -360,7 +366,7 @@ Scene layeredScene(const Setting& s) {
 name = "layered"
 end_time = {end}
 domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.06]
+domain_max = [0.11, 0.21, 0.07]
 [solver]
 particle_spacing = {s}
 density_formulation = "{formulation}"
@@ -378,17 +384,17 @@ viscosity = 0.5
 [[solid]]
 shape = "box"
 min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.05]
+max = [0.1, 0.2, 0.06]
 [[fluid]]
 phase = "light"
 min = [0.0, 0.0, 0.0]
-max = [0.1, {layer}, 0.05]
+max = [0.1, {layer}, 0.06]
 jitter = 0.1
 seed = 1
 [[fluid]]
 phase = "heavy"
 min = [0.0, {layer}, 0.0]
-max = [0.1, {top}, 0.05]
+max = [0.1, {top}, 0.06]
 jitter = 0.1
 seed = 2
 [effects.gravity]
@@ -476,18 +482,19 @@ std::vector<Problem> problems(bool quick) {
     list.push_back(p);
   }
   {
-    Problem p{"hydrostatic", "Hydrostatic column", "RMS relative pressure error",
+    Problem p{"hydrostatic", "Hydrostatic column", "RMS pressure error / rho0 g H",
               "RMS over interior depth bins (one support radius tall, two support radii clear of floor and surface, "
-              "one clear of the side walls) of p_avg / (rho0 g (H - y))_avg - 1, time-averaged over every step of "
-              "0.3 s .. 0.6 s",
+              "one clear of the side walls) of (p_avg - (rho0 g (H - y))_avg) / (rho0 g H), time-averaged over every "
+              "step of 0.3 s .. 0.6 s; `max_bin_ratio_error` is the largest |p_avg / (rho0 g (H - y))_avg - 1| (the "
+              "measure of tests/test_hydrostatic.cpp, which grows towards the surface)",
               "A water column 0.1 x 0.14 x 0.1 m (rho0 = 1000, k = 1000, mu = 0.5 Pa s) in a box, damped "
               "(40/s) until 0.3 s; variants: plain kernel gradient, or `gradient_correction = 1`.",
-              {"max_bin_error", "bins"}, {}, runHydrostatic, -1, ""};
+              {"max_bin_ratio_error", "bins"}, {}, runHydrostatic, -1, ""};
     auto add = [&](double s, double f, const char* v) { p.ladder.push_back(rung(s, f, v, mm(s))); };
     if (quick) {
       add(0.01, 1, "plain"), add(0.01, 1, "corrected");
     } else {
-      for (double s : {0.01, 0.0075, 0.005})
+      for (double s : {0.01, 0.02 / 3, 0.005})
         for (const char* v : {"plain", "corrected"}) add(s, 1, v);
       for (const char* v : {"plain", "corrected"}) add(0.005, 2, v);
     }
@@ -504,24 +511,24 @@ std::vector<Problem> problems(bool quick) {
     if (quick) {
       add(0.02, 1), add(0.01, 1);
     } else {
-      for (double s : {0.02, 0.01, 0.0067, 0.005, 0.004}) add(s, 1);
+      for (double s : {0.02, 0.01, 0.02 / 3, 0.005, 0.004}) add(s, 1);
       for (double s : {0.01, 0.005}) add(s, 2), add(s, 0.25);
     }
     list.push_back(p);
   }
   {
     Problem p{"layered", "Two fluids layered (Rayleigh-Taylor overturn)", "mass on the wrong side / total mass",
-              "after 2 s: the interface is the level with as many particles below it as there are heavy ones; "
+              "after 4 s (measured at 1 cm: 6 % at 2 s, 1.4 % at 4 s, 1.0 % at 6 s): the interface is the level with as many particles below it as there are heavy ones; "
               "heavy mass more than half a spacing above it plus light mass more than half a spacing below it, "
               "over the total mass",
-              "Heavy fluid (1000 kg/m^3) above light (500 kg/m^3), 6 cm each in a 0.1 x 0.2 x 0.05 m box, "
+              "Heavy fluid (1000 kg/m^3) above light (500 kg/m^3), 6 cm each in a 0.1 x 0.2 x 0.06 m box, "
               "k = 200, mu = 0.5 Pa s, jitter 0.1 spacing; variants: `density_formulation` mass (eq. 1) or number.",
               {"heavy_wrong_fraction", "light_wrong_fraction"}, {}, runLayered, -1, ""};
     auto add = [&](double s, double f, const char* v) { p.ladder.push_back(rung(s, f, v, mm(s))); };
     if (quick) {
       add(0.01, 1, "mass"), add(0.01, 1, "number");
     } else {
-      for (double s : {0.01, 0.0067, 0.005})
+      for (double s : {0.01, 0.02 / 3, 0.005})
         for (const char* v : {"mass", "number"}) add(s, 1, v);
       for (const char* v : {"mass", "number"}) add(0.005, 2, v);
     }
