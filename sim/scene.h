@@ -61,6 +61,7 @@ struct FluidBlockSpec {
   Real temperature = 20;     // initial temperature, deg C (allocated only if an effect uses it)
   Real dye = 0;              // initial dye concentration (dye_diffusion)
   int insideSolid = -1;      // if >= 0: only lattice points inside this container are seeded
+  Real wallMargin = 0;       // with insideSolid: ... and at least this many spacings inside its surface
 };
 
 enum class DensityFormulation {

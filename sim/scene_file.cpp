@@ -597,6 +597,9 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           r.problem(t.node("inside"), t.path("inside"), fmt::format("unknown solid \"{}\"; defined: {}", solid, known));
         }
       }
+      f.wallMargin = t.number("wall_margin", f.wallMargin, 0, 2, "spacings");
+      if (t.has("wall_margin") && f.insideSolid < 0 && !t.has("inside"))
+        r.problem(t.node("wall_margin"), t.path("wall_margin"), "has no effect without inside = \"<solid>\"");
       f.temperature = t.number("temperature", f.temperature, -273.15, 1e4, "deg C");
       f.dye = t.number("dye", f.dye, -1e6, 1e6);
       std::vector<std::string> names;
@@ -633,8 +636,14 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       TableReader effectsReader(r, et, "effects");
       for (const EffectInfo& info : effectRegistry()) {
         if (!et->contains(info.name)) continue;
-        TableReader t(r, effectsReader.table(info.name), "effects." + info.name);
-        if (!t.boolean("enabled", true)) continue;
+        const toml::table* effectTable = effectsReader.table(info.name);
+        TableReader t(r, effectTable, "effects." + info.name);
+        if (!t.boolean("enabled", true)) {
+          // Switched off (e.g. --set effects.NAME.enabled=false): its other keys are not errors.
+          if (effectTable)
+            for (auto&& [k, v] : *effectTable) t.node(std::string(k.str()));
+          continue;
+        }
         EffectSpec spec;
         spec.name = info.name;
         const size_t effectProblems = r.problems.size();

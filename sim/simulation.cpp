@@ -176,7 +176,9 @@ void Simulation::seedFluid() {
             x += Vec3(uniform01(rngBase + 1) - 0.5, uniform01(rngBase + 2) - 0.5, uniform01(rngBase + 3) - 0.5) *
                  (2 * f.jitter * s);
           if (f.shape == FluidBlockSpec::Shape::Sphere && lengthSquared(x - f.centre) > f.radius * f.radius) continue;
-          if (f.insideSolid >= 0 && !insideFluidRegion(scene_.solids[size_t(f.insideSolid)], x)) continue;
+          // A curved wall cuts the lattice anywhere: wall_margin leaves out points that would sit
+          // closer to it than the half spacing flat walls keep (they start strongly repelled).
+          if (f.insideSolid >= 0 && !insideFluidRegion(scene_.solids[size_t(f.insideSolid)], x, -f.wallMargin * s)) continue;
           size_t pick = 0;
           if (f.phases.size() > 1) {
             const Real u = uniform01(rngBase) * cumulative;

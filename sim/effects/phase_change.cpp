@@ -3,8 +3,9 @@
 // phase_change, after every accepted step:
 //  - Evaporation. A liquid particle hotter than the boiling temperature becomes vapour where
 //    vapour can nucleate: within site_radius of one of the N cavitation sites (points drawn at
-//    random, seeded, in a box on the heated bottom; the paper: 5), or next to vapour already
-//    there (a bubble grows by evaporating the hot water at its wall). Its phase, viscosity,
+//    random, seeded, in a box on the heated bottom; the paper: 5), or next to vapour that has
+//    finished expanding (a bubble grows by evaporating the hot water at its wall, a shell at a
+//    time). Its phase, viscosity,
 //    stiffness and colours become the vapour's; its mass is kept.
 //  - Expansion. The new vapour particle starts at the liquid's rest density, which then falls
 //    towards the vapour's at expansion_rate, rho0 <- max(rho0_v, rho0 exp(-r dt)), but never so
@@ -99,7 +100,15 @@ class PhaseChange final : public Effect {
         if (ps.phase[i] == p_.liquid && T > p_.boiling) {
           bool nucleus = false;
           for (const Vec3& s : sites_) nucleus |= lengthSquared(ps.position[i] - s) <= r2site;
-          for (uint64_t k = nf.begin(i), e = nf.end(i); k < e && !nucleus; ++k) nucleus = ps.phase[nf.indices[k]] == p_.vapour;
+          // Growth from vapour that has finished expanding (rest density within 5 % of the
+          // vapour's): a bubble takes in the hot water at its wall one shell at a time, at the
+          // pace of the expansion. Measured without that condition: in a pool at 105 deg C the
+          // vapour front crossed a neighbourhood every step (200 m/s) and 1 088 of 1 152
+          // particles flashed to vapour and left within 0.1 s.
+          for (uint64_t k = nf.begin(i), e = nf.end(i); k < e && !nucleus; ++k) {
+            const uint32_t j = nf.indices[k];
+            nucleus = ps.phase[j] == p_.vapour && ps.restDensity[j] <= 1.05 * vapour_.restDensity;
+          }
           change_[i] = nucleus ? 1 : 0;
         } else if (ps.phase[i] == p_.vapour && T < p_.boiling - p_.margin) {
           change_[i] = 2;
@@ -230,10 +239,12 @@ class FlameHeating final : public Effect {
   uint64_t flamesSeen_ = 0;
 };
 
-std::vector<std::pair<std::string, std::string>> checkBox(const ParamValues& v, const char* lo, const char* hi) {
+std::vector<std::pair<std::string, std::string>> checkBox(const ParamValues& v, const char* lo, const char* hi,
+                                                           bool pointAllowed = false) {
   const Vec3 a = v.vector(lo), b = v.vector(hi);
   for (int k = 0; k < 3; ++k)
-    if (!(a[k] < b[k])) return {{hi, std::string("must be greater than ") + lo + " in every component"}};
+    if (pointAllowed ? !(a[k] <= b[k]) : !(a[k] < b[k]))
+      return {{hi, std::string(pointAllowed ? "must not be below " : "must be greater than ") + lo + " in any component"}};
   return {};
 }
 
@@ -277,7 +288,7 @@ EffectInfo phaseChangeInfo() {
     std::vector<std::pair<std::string, std::string>> problems;
     if (spec.number("liquid") == spec.number("vapour")) problems.push_back({"vapour", "must differ from liquid"});
     if (lengthSquared(spec.vector("up")) == 0) problems.push_back({"up", "must not be zero"});
-    for (const auto& pr : checkBox(spec, "site_min", "site_max")) problems.push_back(pr);
+    for (const auto& pr : checkBox(spec, "site_min", "site_max", true)) problems.push_back(pr);
     return problems;
   };
   return info;
