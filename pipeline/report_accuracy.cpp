@@ -590,14 +590,14 @@ std::string paretoScript(const Problem& p, const std::vector<Measured>& r, const
   std::string plots = fmt::format(
       "$all using 1:2 with points pt 7 ps 1.3 lc rgb \"#7f7f7f\" title \"{}\", \\\n"
       "     $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb \"#d62728\" title \"Pareto front\", \\\n"
-      "     $all using 1:2:3 with labels left offset 1,0.6 font \"sans,8\" notitle",
+      "     $all using 1:2:3 with labels left offset 0.6,0.5 rotate by 40 font \"sans,8\" notitle",
       escapeGnuplot(p.errorName));
   if (p.altExtra >= 0) {
     data += dataBlock("alt", p, r, true, false) + dataBlock("altfront", p, r, true, true);
     plots += fmt::format(
         ", \\\n     $alt using 1:2 with points pt 5 ps 1.1 lc rgb \"#1f77b4\" title \"{}\", \\\n"
         "     $altfront using 1:2 with linespoints lw 2 pt 4 ps 2.0 lc rgb \"#1f77b4\" dt 2 title \"its Pareto front\", \\\n"
-        "     $alt using 1:2:3 with labels left offset 1,-0.6 font \"sans,8\" tc rgb \"#1f77b4\" notitle",
+        "     $alt using 1:2:3 with labels right offset -0.6,-0.5 rotate by 40 font \"sans,8\" tc rgb \"#1f77b4\" notitle",
         escapeGnuplot(p.altName));
   }
   return fmt::format(R"gp(set terminal pngcairo size 900,600 noenhanced font "sans,10"

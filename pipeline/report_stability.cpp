@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <limits>
 
 #include "report_util.h"
@@ -315,23 +316,31 @@ Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   return t;
 }
 
-// One panel per sweep: the largest compression of every case, coloured by outcome. A stopped
-// run has no accepted step at fault, so it is drawn as a cross at the watchdog's limit.
-std::string stabilityScript(const std::vector<Case>& cs, const std::vector<Outcome>& os, double limit) {
+// What one stability figure shows: a value per case on a log axis, one panel per sweep.
+struct Figure {
+  std::string name, title, ylabel;
+  double ymin, ymax, reference;  // a dashed line at `reference` (0: none)
+  std::function<double(const Outcome&)> value;
+};
+
+// One panel per sweep, every case coloured by its outcome (stopped runs as crosses).
+std::string figureScript(const Figure& f, const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   std::vector<std::string> sweeps;
   for (const auto& c : cs)
     if (std::find(sweeps.begin(), sweeps.end(), c.sweep) == sweeps.end()) sweeps.push_back(c.sweep);
   const int cols = sweeps.size() > 1 ? 2 : 1, rows = int((sweeps.size() + 1) / size_t(cols));
   std::string s = fmt::format(R"gp(set terminal pngcairo size {},{} noenhanced font "sans,9"
-set output "stability.png.tmp"
-set multiplot layout {},{} title "Largest compression (rho - rho0)/rho0 of accepted steps per case\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog (drawn at its limit {})"
+set output "{}.png.tmp"
+set multiplot layout {},{} title "{}\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
 set logscale y
-set yrange [1e-4:2]
+set yrange [{}:{}]
 set grid ytics
 set xtics rotate by 30 right
-set ylabel "max density error"
+set ylabel "{}"
 )gp",
-                              cols * 550, rows * 380, rows, cols, limit);
+                              cols * 550, rows * 380, f.name, rows, cols, escapeGnuplot(f.title), f.ymin, f.ymax,
+                              escapeGnuplot(f.ylabel));
+  if (f.reference > 0) s += fmt::format("set arrow from graph 0, first {0} to graph 1, first {0} nohead dt 2 lc rgb \"#555555\"\n", f.reference);
   for (const auto& sweep : sweeps) {
     std::string data, tics;
     int x = 0;
@@ -339,7 +348,7 @@ set ylabel "max density error"
       if (cs[k].sweep != sweep) continue;
       const Outcome& o = os[k];
       const int colour = o.stable() ? (o.retries > 0 ? 0xff7f0e : 0x2ca02c) : 0xd62728;
-      const double y = o.stopped ? limit : std::max(1e-4, o.maxDensityError);
+      const double y = std::min(f.ymax, std::max(f.ymin, f.value(o)));
       // gnuplot takes variable columns in the order point type, then colour.
       data += fmt::format("{} {:.6g} {} {}\n", x, y, o.stopped ? 2 : 7, colour);
       tics += fmt::format("{}\"{}\" {}", tics.empty() ? "" : ", ", escapeGnuplot(cs[k].label), x);
@@ -349,6 +358,16 @@ set ylabel "max density error"
     s += "plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle\n" + data + "e\n";
   }
   return s + "unset multiplot\n";
+}
+
+std::vector<Figure> figures(double watchdogLimit) {
+  return {{"stability", fmt::format("Largest compression (rho - rho0)/rho0 of accepted steps per case (stopped runs drawn at the watchdog's limit {})", watchdogLimit),
+           "max density error", 1e-4, 2, 0,
+           [=](const Outcome& o) { return o.stopped ? watchdogLimit : o.maxDensityError; }},
+          {"stability_energy",
+           fmt::format("Largest energy growth max (E - E0)/E0 per case (up to the stop for stopped runs; dashed: {:.0f} %)",
+                       100 * kEnergyGrowthLimit),
+           "energy growth (log)", 1e-4, 1e3, kEnergyGrowthLimit, [](const Outcome& o) { return o.growth; }}};
 }
 
 // Per sweep: which cases held and which did not, with the watchdog's word on the first failure.
@@ -408,7 +427,9 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       "`first_trouble_step` is the first step the watchdog had to retry, or the step it stopped at.\n\n",
       opt.commandLine, utcNow(), machine.describe(), loadAverage(), opt.quick ? "quick (the CI check, not for conclusions)" : "full",
       opt.quick ? 0.1 : 0.3, 100 * kEnergyGrowthLimit);
-  out += "## Limits found\n\n" + limits(cs, os) + "\n![stability](stability.png)\n\n## All cases\n\n";
+  out += "## Limits found\n\n" + limits(cs, os) +
+         "\n![largest compression per case](stability.png)\n\n![energy growth per case](stability_energy.png)\n\n"
+         "## All cases\n\n";
   out += t.markdown({"sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
                      "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s", "cpu_s"}) +
          "\n## Watchdog messages\n\n";
@@ -435,7 +456,9 @@ int runStability(const Options& opt, const Machine& machine) {
   const fs::path out(opt.out);
   const Table t = resultTable(cs, os);
   writeText((out / "stability.csv").string(), t.csv());
-  const bool plotted = plot(opt, "stability", stabilityScript(cs, os, cs.front().scene.solver.maxDensityError), (out / "stability.png").string());
+  bool plotted = true;
+  for (const Figure& f : figures(cs.front().scene.solver.maxDensityError))
+    plotted &= plot(opt, f.name, figureScript(f, cs, os), (out / (f.name + ".png")).string());
   writeText((out / "stability.md").string(), page(opt, machine, t, cs, os, secondsSince(start)));
   fmt::print(stderr, "report stability: {} cases in {} on {}; wrote {}\n", cs.size(), formatDuration(secondsSince(start)),
              machine.describe(), (out / "stability.md").string());

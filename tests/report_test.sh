@@ -36,7 +36,7 @@ grep -q '^stiffness,k=10,.*,stopped,no,.*simulation unstable at step' "$work/sta
 grep -q '^stiffness,k=1000,.*,stable,yes,' "$work/stability.csv" || fail "k=1000 not reported as stable"
 grep -q '^dt_factor,f=25 no retries,.*,stopped,no,.*solver.cfl' "$work/stability.csv" || fail "dt factor 25 without retries not stopped naming solver.cfl"
 
-for png in accuracy_dam_break accuracy_hydrostatic accuracy_heat_diffusion accuracy_layered dam_break_front stability; do
+for png in accuracy_dam_break accuracy_hydrostatic accuracy_heat_diffusion accuracy_layered dam_break_front stability stability_energy; do
   f="$work/$png.png"
   [ -s "$f" ] || fail "$png.png missing or empty"
   [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] || fail "$png.png is not a PNG"
