@@ -34,7 +34,7 @@ namespace {
 constexpr const char* kDefaultScene = "lava_lamp";
 // With no argument at all, the default scene runs at demo quality: about ten minutes on 2 cores
 // from nothing to an mp4 (the scene file itself asks for 60 s at 10 fps and 16 samples).
-const std::vector<std::string> kDefaultDemoSettings = {"scene.end_time=24.0", "scene.frame_rate=5.0", "render.samples=8"};
+const std::vector<std::string> kDefaultDemoSettings = {"scene.end_time=12.0", "scene.frame_rate=5.0", "render.samples=8"};
 
 void usage(std::FILE* to) {
   fmt::print(to,
