@@ -4,7 +4,9 @@
 #include <openvdb/points/PointRasterizeSDF.h>
 #include <openvdb/tools/ChangeBackground.h>
 #include <openvdb/tools/LevelSetRebuild.h>
+#include <openvdb/tools/FastSweeping.h>
 #include <openvdb/tools/LevelSetTracker.h>
+#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 
@@ -31,6 +33,21 @@ openvdb::points::PointDataGrid::Ptr makePointGrid(const std::vector<openvdb::Vec
         grid->tree(), index->tree(), "v", PointAttributeVector<openvdb::Vec3f>(velocities));
   }
   return grid;
+}
+
+/// Deactivates voxels at or beyond `halfWidth` from the surface (clamped to +-halfWidth), makes
+/// that the background, and prunes: a narrow-band level set of exactly that half width.
+void trimBand(openvdb::FloatGrid& grid, float halfWidth) {
+  openvdb::tree::LeafManager<openvdb::FloatTree>(grid.tree()).foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
+    for (auto v = leaf.beginValueOn(); v; ++v)
+      if (std::fabs(*v) >= halfWidth) {
+        v.setValue(*v > 0 ? halfWidth : -halfWidth);
+        v.setValueOff();
+      }
+  });
+  openvdb::tools::changeLevelSetBackground(grid.tree(), halfWidth);
+  grid.setGridClass(openvdb::GRID_LEVEL_SET);
+  openvdb::tools::pruneLevelSet(grid.tree());
 }
 
 }  // namespace
@@ -63,11 +80,29 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
     out.levelSet = openvdb::points::rasterizeSmoothSpheres(*points, radius, search, band, transform);
   }
   // Zhu & Bridson's field is a distance only near the surface: inside it saturates at -radius
-  // and outside it stops about (search - radius) out. Rebuild a true distance in a band one
-  // voxel wider than the filter's stencil (only values near the zero crossing shape the result),
-  // filter, then rebuild the final 3-voxel band.
-  const float wide = float(s.filterRadius + 1);
-  out.levelSet = openvdb::tools::levelSetRebuild(*out.levelSet, 0.0f, wide, wide);
+  // and outside it stops about (search - radius) out. Make it a true distance in a band one
+  // voxel wider than the filter's stencil (only values near the zero crossing shape the result):
+  // widen the active band outwards, solve the eikonal equation on it (fast sweeping, which keeps
+  // every voxel's sign; the mesh-based levelSetRebuild used before flooded enclosed cavities, so
+  // bubbles inside a liquid vanished from its level set), trim; then filter and trim to 3 voxels.
+  {
+    const int wide = s.filterRadius + 1;
+    // The raw field is active deep inside the fluid too; only `wide` voxels either side of the
+    // crossing are needed: voxels not saturated at -radius, dilated by `wide`.
+    openvdb::MaskGrid band(false);
+    band.setTransform(out.levelSet->transform().copy());
+    {
+      auto mask = band.getAccessor();
+      const float saturated = -0.99f * float(radius);
+      for (auto v = out.levelSet->cbeginValueOn(); v; ++v)
+        if (*v > saturated && v.isVoxelValue()) mask.setValueOn(v.getCoord());
+    }
+    openvdb::tools::dilateActiveValues(band.tree(), wide, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
+    out.levelSet->tree().topologyUnion(band.tree());
+    out.levelSet->tree().topologyIntersection(band.tree());
+    out.levelSet = openvdb::tools::sdfToSdf(*out.levelSet, 0.0f, 1);
+    trimBand(*out.levelSet, float(wide * voxel));
+  }
   bilateralFilter(*out.levelSet, s.filterRadius, s.filterSpatialSigma, s.filterRangeSigma, s.filterIterations);
   {
     // The filtered field is close to a distance already: a few reinitialisation sweeps and a
@@ -78,17 +113,7 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
     tracker.resize(int(kHalfWidthVoxels));
   }
   // The tracker's band ends on voxel topology, up to a voxel wider: trim to exactly 3 voxels.
-  const float background = float(kHalfWidthVoxels * voxel);
-  openvdb::tree::LeafManager<openvdb::FloatTree>(out.levelSet->tree()).foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
-    for (auto v = leaf.beginValueOn(); v; ++v)
-      if (std::fabs(*v) >= background) {
-        v.setValue(*v > 0 ? background : -background);
-        v.setValueOff();
-      }
-  });
-  openvdb::tools::changeLevelSetBackground(out.levelSet->tree(), background);
-  out.levelSet->setGridClass(openvdb::GRID_LEVEL_SET);
-  openvdb::tools::pruneLevelSet(out.levelSet->tree());
+  trimBand(*out.levelSet, float(kHalfWidthVoxels * voxel));
   return out;
 }
 
