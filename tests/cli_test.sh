@@ -134,6 +134,13 @@ grep -q "bad.toml:14: key 'fluid\[0\].phase': unknown phase \"oil\"" "$work/vali
   fail "validate did not report every problem: $(cat "$work/validate.out")"
 "$bin" validate dam_break > /dev/null || fail "embedded dam_break does not validate"
 
+# The default scene (the lava lamp), its first frames through every stage at tiny size.
+"$bin" run lava_lamp --frames 0-2 --resolution 24x40 --samples 1 --threads 2 --out "$work/lamp" 2> "$work/lamp.log" ||
+  fail "lava_lamp failed: $(tail -5 "$work/lamp.log")"
+for f in particles/particles.0002.vdb surface/surface.0002.vdb render/render.0002.png render/render.0002.exr lava_lamp.mp4; do
+  [ -s "$work/lamp/$f" ] || fail "lava_lamp did not write $f"
+done
+
 set +e
 "$bin" run --frames 5-2 > /dev/null 2>&1
 [ $? -eq 2 ] || fail "--frames 5-2 accepted"
