@@ -365,7 +365,7 @@ std::vector<Figure> figures(double watchdogLimit) {
            "max density error", 1e-4, 2, 0,
            [=](const Outcome& o) { return o.stopped ? watchdogLimit : o.maxDensityError; }},
           {"stability_energy",
-           fmt::format("Largest energy growth max (E - E0)/E0 per case (up to the stop for stopped runs; dashed: {:.0f} %)",
+           fmt::format("Energy growth: max over steps of (E - E0)/E0 per case (up to the stop for stopped runs; dashed: {:.0f} %)",
                        100 * kEnergyGrowthLimit),
            "energy growth (log)", 1e-4, 1e3, kEnergyGrowthLimit, [](const Outcome& o) { return o.growth; }}};
 }

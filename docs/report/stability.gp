@@ -1,0 +1,78 @@
+set terminal pngcairo size 1100,1140 noenhanced font "sans,9"
+set output "stability.png.tmp"
+set multiplot layout 3,2 title "Largest compression (rho - rho0)/rho0 of accepted steps per case (stopped runs drawn at the watchdog's limit 0.5)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
+set logscale y
+set yrange [0.0001:2]
+set grid ytics
+set xtics rotate by 30 right
+set ylabel "max density error"
+set title "stiffness"
+set xrange [-0.5:5.5]
+set xtics ("k=10" 0, "k=100" 1, "k=400" 2, "k=1000" 3, "k=10000" 4, "k=100000" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.5 2 14034728
+1 0.5 2 14034728
+2 0.385043 7 2924588
+3 0.317762 7 2924588
+4 0.252208 7 2924588
+5 0.266273 7 2924588
+e
+set title "density_ratio"
+set xrange [-0.5:7.5]
+set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0303364 7 2924588
+1 0.0412317 7 2924588
+2 0.5 2 14034728
+3 0.0190441 7 2924588
+4 0.5 2 14034728
+5 0.0224398 7 2924588
+6 0.5 2 14034728
+7 0.0755244 7 2924588
+e
+set title "viscosity"
+set xrange [-0.5:6.5]
+set xtics ("mu=0" 0, "mu=0.01" 1, "mu=0.1" 2, "mu=1" 3, "mu=10" 4, "mu=100" 5, "mu=1000" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.331232 7 2924588
+1 0.296916 7 2924588
+2 0.317762 7 2924588
+3 0.247583 7 2924588
+4 0.225274 7 2924588
+5 0.215942 7 2924588
+6 0.196362 7 2924588
+e
+set title "dt_factor"
+set xrange [-0.5:6.5]
+set xtics ("f=0.5" 0, "f=1" 1, "f=2" 2, "f=5" 3, "f=10" 4, "f=25" 5, "f=25 no retries" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.309441 7 2924588
+1 0.317762 7 2924588
+2 0.33487 7 2924588
+3 0.401155 7 16744206
+4 0.457882 7 16744206
+5 0.5 2 14034728
+6 0.5 2 14034728
+e
+set title "temperature"
+set xrange [-0.5:4.5]
+set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0309391 7 2924588
+1 0.0351084 7 2924588
+2 0.0235416 7 2924588
+3 0.123236 7 2924588
+4 0.5 2 14034728
+e
+set title "spacing"
+set xrange [-0.5:5.5]
+set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.265246 7 2924588
+1 0.326072 7 2924588
+2 0.317762 7 2924588
+3 0.339112 7 2924588
+4 0.0205272 7 2924588
+5 0.5 2 14034728
+e
+unset multiplot

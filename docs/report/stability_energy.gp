@@ -1,0 +1,79 @@
+set terminal pngcairo size 1100,1140 noenhanced font "sans,9"
+set output "stability_energy.png.tmp"
+set multiplot layout 3,2 title "Energy growth: max over steps of (E - E0)/E0 per case (up to the stop for stopped runs; dashed: 5 %)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
+set logscale y
+set yrange [0.0001:1000]
+set grid ytics
+set xtics rotate by 30 right
+set ylabel "energy growth (log)"
+set arrow from graph 0, first 0.05 to graph 1, first 0.05 nohead dt 2 lc rgb "#555555"
+set title "stiffness"
+set xrange [-0.5:5.5]
+set xtics ("k=10" 0, "k=100" 1, "k=400" 2, "k=1000" 3, "k=10000" 4, "k=100000" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.00446054 2 14034728
+1 0.0279401 2 14034728
+2 0.438947 7 2924588
+3 0.959145 7 2924588
+4 12.1436 7 2924588
+5 151.869 7 2924588
+e
+set title "density_ratio"
+set xrange [-0.5:7.5]
+set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.291884 7 2924588
+1 0.3389 7 2924588
+2 0.0001 2 14034728
+3 0.00878145 7 2924588
+4 0.0001 2 14034728
+5 0.0126248 7 2924588
+6 0.0001 2 14034728
+7 0.0364743 7 2924588
+e
+set title "viscosity"
+set xrange [-0.5:6.5]
+set xtics ("mu=0" 0, "mu=0.01" 1, "mu=0.1" 2, "mu=1" 3, "mu=10" 4, "mu=100" 5, "mu=1000" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 1.45842 7 2924588
+1 1.20388 7 2924588
+2 0.959145 7 2924588
+3 0.0681256 7 2924588
+4 0.0498895 7 2924588
+5 0.0432906 7 2924588
+6 1.57039 7 2924588
+e
+set title "dt_factor"
+set xrange [-0.5:6.5]
+set xtics ("f=0.5" 0, "f=1" 1, "f=2" 2, "f=5" 3, "f=10" 4, "f=25" 5, "f=25 no retries" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 1.48911 7 2924588
+1 0.959145 7 2924588
+2 1.9145 7 2924588
+3 7.0894 7 16744206
+4 6.34435 7 16744206
+5 5.91516 2 14034728
+6 0.0001 2 14034728
+e
+set title "temperature"
+set xrange [-0.5:4.5]
+set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.212887 7 2924588
+1 0.399504 7 2924588
+2 0.204247 7 2924588
+3 3.7097 7 2924588
+4 7.04347 2 14034728
+e
+set title "spacing"
+set xrange [-0.5:5.5]
+set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 8.18072 7 2924588
+1 6.86037 7 2924588
+2 0.959145 7 2924588
+3 0.767827 7 2924588
+4 0.0436762 7 2924588
+5 0.000562005 2 14034728
+e
+unset multiplot
