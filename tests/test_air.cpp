@@ -489,8 +489,11 @@ TEST(PhaseChange, EvaporatesAtTheSiteKeepsMassAndCondensesWhenCooled) {
   // Every particle starts hot, but only the site (and then vapour's neighbours) nucleates.
   sim.step(1.0);
   const size_t first = countPhase(sim, "vapour");
-  for (size_t i = 0; i < sim.particles().size(); ++i)
-    if (sim.particles().phase[i] == vapour) EXPECT_LE(length(sim.particles().position[i] - Vec3(0.06, 0.005, 0.06)), 0.0101);
+  for (size_t i = 0; i < sim.particles().size(); ++i) {
+    if (sim.particles().phase[i] == vapour) {
+      EXPECT_LE(length(sim.particles().position[i] - Vec3(0.06, 0.005, 0.06)), 0.0101);
+    }
+  }
   EXPECT_GE(first, 1u);
   EXPECT_LE(first, 7u);  // the site and at most its 6 lattice neighbours within one spacing
   sim.advanceTo(0.1);
@@ -556,86 +559,6 @@ TEST(Boiling, BitIdenticalAcrossThreadsAndAfterResume) {
   resumed.advanceTo(0.4);
   EXPECT_TRUE(stateBytes(resumed) == reference) << "resumed run differs";
   fs::remove_all(dir);
-}
-
-// ---- manual tools (disabled; run with --gtest_also_run_disabled_tests) ---------------------------
-
-// MF_FRAMES=DIR: particle count per phase and air height in each DIR/particles/particles.NNNN.vdb.
-TEST(AirTools, DISABLED_FrameStats) {
-  const char* dir = std::getenv("MF_FRAMES");
-  ASSERT_TRUE(dir);
-  size_t maxTotal = 0;
-  std::map<std::string, size_t> maxPhase;
-  for (int f = 0;; ++f) {
-    const fs::path file = fs::path(dir) / "particles" / fmt::format("particles.{:04d}.vdb", f);
-    if (!fs::exists(file)) break;
-    const ParticleFrame fr = readParticleFrame(file.string());
-    std::map<std::string, size_t> count;
-    std::map<std::string, Real> meanY;
-    for (size_t k = 0; k < fr.size(); ++k) {
-      const std::string& name = fr.info.phaseNames.at(size_t(fr.phase[k]));
-      ++count[name];
-      meanY[name] += fr.position[k].y;
-    }
-    std::string line = fmt::format("frame {:3d} t {:.3f} s: {:5d} particles", f, fr.info.time, fr.size());
-    for (const auto& [name, n] : count) {
-      line += fmt::format(", {} {} (mean y {:.4f})", name, n, meanY[name] / Real(n));
-      maxPhase[name] = std::max(maxPhase[name], n);
-    }
-    maxTotal = std::max(maxTotal, fr.size());
-    fmt::print("{}\n", line);
-  }
-  fmt::print("at most {} particles in a frame", maxTotal);
-  for (const auto& [name, n] : maxPhase) fmt::print(", {} at most {}", name, n);
-  fmt::print("\n");
-}
-
-// MF_SCENE=name MF_END=seconds [MF_SET="k=v,k=v"]: runs a scene and prints every effect's
-// statistics, the particles per phase and the mean temperature per phase every 0.25 s.
-TEST(AirTools, DISABLED_RunScene) {
-  const char* name = std::getenv("MF_SCENE");
-  ASSERT_TRUE(name);
-  std::vector<std::string> sets;
-  if (const char* s = std::getenv("MF_SET")) {
-    std::stringstream ss(s);
-    for (std::string item; std::getline(ss, item, ',');) sets.push_back(item);
-  }
-  Simulation sim(loadScene(name, sets));
-  const Real end = std::getenv("MF_END") ? std::atof(std::getenv("MF_END")) : sim.scene().endTime;
-  for (Real t = 0.25; t <= end + 1e-9; t += 0.25) {
-    sim.advanceTo(t);
-    std::string line = fmt::format("t {:.2f} s, {} steps:", t, sim.stepCount());
-    for (size_t p = 0; p < sim.scene().phases.size(); ++p) {
-      size_t n = 0;
-      Real T = 0, y = 0;
-      for (size_t i = 0; i < sim.particles().size(); ++i)
-        if (sim.particles().phase[i] == p) {
-          ++n;
-          y += sim.particles().position[i].y;
-          if (sim.particles().has(Attribute::Temperature)) T += sim.particles().temperature[i];
-        }
-      line += fmt::format(" {} {} (T {:.1f}, y {:.4f})", sim.scene().phases[p].name, n, n ? T / Real(n) : 0.0, n ? y / Real(n) : 0.0);
-    }
-    for (const auto& e : sim.effects())
-      for (const auto& [k, v] : e->statistics()) line += fmt::format(" {}.{}={:g}", e->name(), k, v);
-    Real vmax = 0, ymax = -1e9;
-    for (size_t i = 0; i < sim.particles().size(); ++i) {
-      vmax = std::max(vmax, length(sim.particles().velocity[i]));
-      ymax = std::max(ymax, sim.particles().position[i].y);
-    }
-    line += fmt::format(" vmax={:.2f} ymax={:.3f}", vmax, ymax);
-    size_t outside = 0, aboveRimOutside = 0;
-    for (size_t i = 0; i < sim.particles().size(); ++i) {
-      bool in = sim.scene().solids.empty();
-      for (const SolidSpec& so : sim.scene().solids) in |= insideFluidRegion(so, sim.particles().position[i], 0.5 * sim.particleSpacing());
-      outside += !in;
-      aboveRimOutside += !in && sim.particles().position[i].y > 0.1;
-    }
-    line += fmt::format(" outside_solids={} (of which above 0.1 m: {}) wall_clamps={} out_of_domain={}", outside, aboveRimOutside,
-                        sim.counters().wallClamps, sim.counters().removedOutOfDomain);
-    fmt::print("{}\n", line);
-    std::fflush(stdout);
-  }
 }
 
 }  // namespace
