@@ -377,29 +377,19 @@ struct PathTracer::Impl {
         if (!lightCounted) add(mul(throughput, settings.lightEmission));
         break;
       }
-      if (h.kind == Hit::Floor) {
-        add(mul(throughput, diffuseBounce(h, floorAlbedo(h.p), o, d, stack, rng, rays, record)));
-        leaving = -1;
-        indirect = true;
-        throughput = mul(throughput, floorAlbedo(h.p));
-        start = o;
-        lightCounted = true;
-        ++bounces;
-        if (!russianRoulette(throughput, bounces, rng)) break;
-        continue;
-      }
-      const MaterialSpec& m = materials[h.material];
-      if (m.kind == MaterialSpec::Kind::Emitter) {
-        add(mul(throughput, m.emission));
+      const MaterialSpec* m = h.kind == Hit::Mesh ? &materials[h.material] : nullptr;
+      if (m && m->kind == MaterialSpec::Kind::Emitter) {
+        add(mul(throughput, m->emission));
         break;
       }
-      if (m.kind == MaterialSpec::Kind::Diffuse) {
+      if (!m || m->kind == MaterialSpec::Kind::Diffuse) {  // the table, or a diffuse mesh
+        const Vec3 albedo = m ? m->colour : floorAlbedo(h.p);
         Hit facing = h;
         if (dot(d, h.ng) > 0) facing.ng = -h.ng, facing.ns = -h.ns;
-        add(mul(throughput, diffuseBounce(facing, m.colour, o, d, stack, rng, rays, record)));
-        leaving = h.material;
+        add(mul(throughput, diffuseBounce(facing, albedo, o, d, stack, rng, rays, record)));
+        leaving = m ? h.material : -1;
         indirect = true;
-        throughput = mul(throughput, m.colour);
+        throughput = mul(throughput, albedo);
         start = o;
         lightCounted = true;
         ++bounces;
@@ -409,8 +399,9 @@ struct PathTracer::Impl {
       // A dielectric boundary (clear liquid, glass, bubble, or a medium's surface).
       const bool entering = dot(d, h.ng) < 0;
       const int current = stack.top(materials);
-      const bool real = entering ? m.priority >= stack.topPriority(materials)
-                                 : (stack.contains(h.material) && current == h.material) || !stack.contains(h.material);
+      // Leaving a volume is real when it is the medium, or when the ray was never known to be in it.
+      const bool real = entering ? m->priority >= stack.topPriority(materials)
+                                 : current == h.material || !stack.contains(h.material);
       if (!real) {
         // Inside a volume of higher priority: this boundary does not exist there.
         if (entering) stack.push(h.material);
@@ -424,8 +415,8 @@ struct PathTracer::Impl {
       if (entering) after.push(h.material);
       else after.remove(h.material);
       const int outsideMedium = entering ? current : after.top(materials);
-      const Real n1 = entering ? (current >= 0 ? materials[current].ior : 1.0) : m.ior;
-      const Real n2 = entering ? m.ior : (outsideMedium >= 0 ? materials[outsideMedium].ior : 1.0);
+      const Real n1 = entering ? (current >= 0 ? materials[current].ior : 1.0) : m->ior;
+      const Real n2 = entering ? m->ior : (outsideMedium >= 0 ? materials[outsideMedium].ior : 1.0);
       const Vec3 incidentSide = entering ? h.ng : -h.ng;  // geometric normal on the ray's side
       Vec3 n = entering ? h.ns : -h.ns;
       Real cosi = -dot(d, n);
