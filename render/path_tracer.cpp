@@ -7,6 +7,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -46,6 +47,16 @@ class Rng {
   uint64_t state_, inc_;
 };
 
+// The shading path is small functions on doubles; a call there spills every live register (the
+// x86-64 ABI saves none), which cost more than the arithmetic. The hot ones are forced inline.
+#define MF_INLINE inline __attribute__((always_inline))
+
+/// mf::normalize with the same operations (the same bits), always inlined.
+MF_INLINE Vec3 unit(const Vec3& a) {
+  const Real l = std::sqrt(dot(a, a));
+  return l > 0 ? a / l : Vec3{};
+}
+
 Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
 Vec3 expNeg(const Vec3& sigma, Real d) { return {std::exp(-sigma.x * d), std::exp(-sigma.y * d), std::exp(-sigma.z * d)}; }
 Real maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -57,11 +68,11 @@ void basis(const Vec3& n, Vec3& t, Vec3& b) {
   b = {c, s + n.y * n.y * a, -n.y};
 }
 
-Vec3 cosineHemisphere(const Vec3& n, Rng& rng) {
+MF_INLINE Vec3 cosineHemisphere(const Vec3& n, Rng& rng) {
   const Real u1 = rng.uniform(), u2 = rng.uniform(), r = std::sqrt(u1), phi = 2 * M_PI * u2;
   Vec3 t, b;
   basis(n, t, b);
-  return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1)));
+  return unit(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1)));
 }
 
 Vec3 uniformSphere(Rng& rng) {
@@ -89,10 +100,6 @@ struct MediumStack {
       if (best < 0 || m[entries[i]].priority >= m[best].priority) best = entries[i];
     return best;
   }
-  int topPriority(const std::vector<MaterialSpec>& m) const {
-    const int t = top(m);
-    return t < 0 ? -1 : m[t].priority;
-  }
   void push(int material) {
     if (size < kMax) entries[size++] = material;
   }
@@ -113,7 +120,8 @@ struct MediumStack {
 
 /// Continuing rays start exactly on the surface they left (an offset would step over a
 /// coincident surface, such as water against a glass wall); instead, hits on the geometry just
-/// left are ignored closer than `skipDistance`.
+/// left are ignored closer than `skipDistance`. Where no other geometry lies that close to the
+/// triangle left, tnear = skipDistance does the same without the filter (see nearOther).
 struct SkipContext {
   RTCIntersectContext context;
   unsigned skipGeometry;
@@ -128,10 +136,21 @@ void skipFilter(const RTCFilterFunctionNArguments* args) {
       args->valid[i] = 0;
 }
 
+RTCBounds emptyBox() { return {1e30f, 1e30f, 1e30f, 0, -1e30f, -1e30f, -1e30f, 0}; }
+void grow(RTCBounds& a, const RTCBounds& b) {
+  a.lower_x = std::min(a.lower_x, b.lower_x), a.lower_y = std::min(a.lower_y, b.lower_y), a.lower_z = std::min(a.lower_z, b.lower_z);
+  a.upper_x = std::max(a.upper_x, b.upper_x), a.upper_y = std::max(a.upper_y, b.upper_y), a.upper_z = std::max(a.upper_z, b.upper_z);
+}
+bool overlap(const RTCBounds& a, const RTCBounds& b) {
+  return a.lower_x <= b.upper_x && b.lower_x <= a.upper_x && a.lower_y <= b.upper_y && b.lower_y <= a.upper_y &&
+         a.lower_z <= b.upper_z && b.lower_z <= a.upper_z;
+}
+
 struct Hit {
   enum Kind { None, Mesh, Floor, Light } kind = None;
   Real t = 0;
   int material = -1;  // also the geometry id
+  unsigned prim = 0;  // the triangle (meshes)
   Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
 };
 
@@ -144,6 +163,12 @@ struct PathTracer::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   Real epsilon = 1e-5;  // ray offset, m: relative to the scene's size
+  // Per geometry and triangle: the vertex normals, packed (one load near the hit, not four).
+  std::vector<std::vector<std::array<Float3, 3>>> triNormals;
+  // Per geometry and triangle: another geometry comes within 2 epsilon of it. A ray leaving a
+  // triangle without such a neighbour skips its own surface by tnear = epsilon (nothing else lies
+  // that close, so the same hits survive as with the filter); only the others need the filter.
+  std::vector<std::vector<uint8_t>> nearOther;
   Vec3 camU, camV, camW;  // right, up, forward
 
   ~Impl() {
@@ -155,8 +180,6 @@ struct PathTracer::Impl {
     device = rtcNewDevice(nullptr);
     if (!device) throw std::runtime_error("Embree: cannot create a device");
     scene = rtcNewScene(device);
-    // Robust traversal: refracted rays must not leak through shared edges of a mesh.
-    rtcSetSceneFlags(scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
     Vec3 lo{1e30, 1e30, 1e30}, hi{-1e30, -1e30, -1e30};
     for (size_t g = 0; g < surfaces.size(); ++g) {
@@ -178,12 +201,90 @@ struct PathTracer::Impl {
       rtcReleaseGeometry(geom);
       materials.push_back(surfaces[g].material);
     }
-    rtcCommitScene(scene);
     if (hi.x > lo.x) epsilon = std::max(1e-6, 2e-5 * length(hi - lo));
-    camW = normalize(settings.lookAt - settings.cameraPosition);
-    camU = normalize(cross(camW, Vec3{0, 1, 0}));
+    findNeighbours(2 * epsilon);
+    bool anyNear = false;
+    for (const auto& n : nearOther) anyNear |= std::find(n.begin(), n.end(), 1) != n.end();
+    // Robust traversal: refracted rays must not leak through shared edges of a mesh. The skip
+    // filter only where another surface lies close to one.
+    rtcSetSceneFlags(scene, anyNear ? RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_ROBUST);
+    rtcCommitScene(scene);
+    triNormals.resize(surfaces.size());
+    for (size_t g = 0; g < surfaces.size(); ++g) {
+      const RenderMesh& m = surfaces[g].mesh;
+      triNormals[g].resize(m.triangles.size());
+      for (size_t i = 0; i < m.triangles.size(); ++i)
+        for (int k = 0; k < 3; ++k) triNormals[g][i][k] = m.normals[m.triangles[i][k]];
+    }
+    camW = unit(settings.lookAt - settings.cameraPosition);
+    camU = unit(cross(camW, Vec3{0, 1, 0}));
     if (lengthSquared(camU) == 0) camU = {1, 0, 0};
     camV = cross(camU, camW);
+  }
+
+  /// Marks the triangles that come within `margin` of another geometry: Embree's collision
+  /// detection (BVH against BVH) of the triangles' bounding boxes, each grown by half the margin.
+  void findNeighbours(Real margin) {
+    const size_t n = surfaces.size();
+    nearOther.assign(n, {});
+    for (size_t g = 0; g < n; ++g) nearOther[g].assign(surfaces[g].mesh.triangles.size(), 0);
+    if (n < 2) return;
+    const float h = float(0.5 * margin);
+    std::vector<std::vector<RTCBounds>> boxes(n);
+    std::vector<RTCBounds> whole(n, emptyBox());
+    for (size_t g = 0; g < n; ++g) {
+      const RenderMesh& m = surfaces[g].mesh;
+      for (const auto& tri : m.triangles) {
+        RTCBounds b = emptyBox();
+        for (int k = 0; k < 3; ++k) {
+          const Float3& p = m.positions[tri[k]];
+          grow(b, {p.x - h, p.y - h, p.z - h, 0, p.x + h, p.y + h, p.z + h, 0});
+        }
+        boxes[g].push_back(b);
+        grow(whole[g], b);
+      }
+    }
+    // rtcCollide takes user geometries only: one scene of boxes per geometry, made when needed.
+    std::vector<RTCScene> boxScenes(n, nullptr);
+    auto boxScene = [&](size_t g) {
+      if (boxScenes[g]) return boxScenes[g];
+      RTCScene s = rtcNewScene(device);
+      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+      rtcSetGeometryUserPrimitiveCount(geom, unsigned(boxes[g].size()));
+      rtcSetGeometryUserData(geom, &boxes[g]);
+      rtcSetGeometryBoundsFunction(
+          geom,
+          [](const RTCBoundsFunctionArguments* a) {
+            *a->bounds_o = (*static_cast<const std::vector<RTCBounds>*>(a->geometryUserPtr))[a->primID];
+          },
+          nullptr);
+      rtcCommitGeometry(geom);
+      rtcAttachGeometryByID(s, geom, unsigned(g));
+      rtcReleaseGeometry(geom);
+      rtcCommitScene(s);
+      return boxScenes[g] = s;
+    };
+    struct Pairs {  // the callback's view (it may run on several threads)
+      const std::vector<std::vector<RTCBounds>>& boxes;
+      std::vector<std::vector<uint8_t>>& near;
+      std::mutex mutex;
+    } pairs{boxes, nearOther, {}};
+    for (size_t a = 0; a < n; ++a)
+      for (size_t b = a + 1; b < n; ++b) {
+        if (boxes[a].empty() || boxes[b].empty() || !overlap(whole[a], whole[b])) continue;
+        rtcCollide(
+            boxScene(a), boxScene(b),
+            [](void* user, RTCCollision* c, unsigned count) {
+              auto& p = *static_cast<Pairs*>(user);
+              std::lock_guard<std::mutex> lock(p.mutex);
+              for (unsigned k = 0; k < count; ++k)  // candidates: the boxes' BVH leaves overlap
+                if (overlap(p.boxes[c[k].geomID0][c[k].primID0], p.boxes[c[k].geomID1][c[k].primID1]))
+                  p.near[c[k].geomID0][c[k].primID0] = p.near[c[k].geomID1][c[k].primID1] = 1;
+            },
+            &pairs);
+      }
+    for (RTCScene s : boxScenes)
+      if (s) rtcReleaseScene(s);
   }
 
   Vec3 sky(const Vec3& d) const {
@@ -210,26 +311,34 @@ struct PathTracer::Impl {
 
   /// The nearest hit along o + t d, t in (0, tfar); `leaving`: the geometry o lies on, or -1.
   /// `shading`: also the interpolated shading normal (shadow rays need only the geometric one).
-  Hit intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, uint64_t& rays, std::vector<RecordedRay>* record,
-                bool shading = true) const {
-    Hit hit;
+  /// `hit`: the caller's (filled in, not cleared: only what the kind of hit needs is valid).
+  /// `knownLight`: intersectLight(o, d) where the caller has it already.
+  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, uint64_t& rays,
+                 std::vector<RecordedRay>* record, Hit& hit, bool shading = true, const Real* knownLight = nullptr) const {
+    hit.kind = Hit::None;
+    hit.material = -1;
     SkipContext skip;
     rtcInitIntersectContext(&skip.context);
+    float tnear = 0;
     if (leaving >= 0) {
-      skip.context.filter = skipFilter;
-      skip.skipGeometry = unsigned(leaving);
-      skip.skipDistance = float(epsilon);
+      if (nearOther[leaving][leavingPrim]) {
+        skip.context.filter = skipFilter;
+        skip.skipGeometry = unsigned(leaving);
+        skip.skipDistance = float(epsilon);
+      } else {
+        tnear = float(epsilon);
+      }
     }
     RTCRayHit rh;
     rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
     rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = 0;
+    rh.ray.tnear = tnear;
     rh.ray.tfar = float(std::min(tfar, 1e30));
     rh.ray.mask = 0xFFFFFFFF;
     rh.ray.flags = 0;
     rh.ray.time = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, 0, rh.ray.tfar});
+    if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
     rtcIntersect1(scene, &skip.context, &rh);
     ++rays;
     Real best = tfar;
@@ -238,14 +347,16 @@ struct PathTracer::Impl {
       hit.kind = Hit::Mesh;
       hit.t = best;
       hit.material = int(rh.hit.geomID);
+      hit.prim = rh.hit.primID;
       // Embree's Ng is cross(v1 - v0, v2 - v0): outward for our counter-clockwise meshes.
-      hit.ng = normalize(Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
+      // Shadow rays use only its side (the sign of dot(d, ng)): unnormalised there.
+      hit.ng = Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
       if (shading) {
-        const RenderMesh& m = surfaces[rh.hit.geomID].mesh;
-        const auto& tri = m.triangles[rh.hit.primID];
+        hit.ng = unit(hit.ng);
+        const auto& tn = triNormals[rh.hit.geomID][rh.hit.primID];
         const Real u = rh.hit.u, v = rh.hit.v;
-        const auto& na = m.normals[tri[0]], &nb = m.normals[tri[1]], &nc = m.normals[tri[2]];
-        hit.ns = normalize(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
+        const auto& na = tn[0], &nb = tn[1], &nc = tn[2];
+        hit.ns = unit(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
         if (dot(hit.ns, hit.ng) <= 0) hit.ns = hit.ng;
       }
     }
@@ -258,23 +369,23 @@ struct PathTracer::Impl {
         hit.ng = hit.ns = {0, 1, 0};
       }
     }
-    const Real tl = intersectLight(o, d);
+    const Real tl = knownLight ? *knownLight : intersectLight(o, d);
     if (tl > 0 && tl < best) {
       hit.kind = Hit::Light;
       hit.t = tl;
     }
     if (hit.kind != Hit::None) hit.p = o + d * hit.t;
-    return hit;
   }
 
   /// Transmittance towards a light sample through clear volumes (a transparent-shadow
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
-  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, MediumStack stack, uint64_t& rays,
-                     std::vector<RecordedRay>* record) const {
+  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, uint64_t& rays,
+                     std::vector<RecordedRay>* record, Hit& h) const {
     Vec3 T{1, 1, 1};
+    const Real firstLight = dist;  // the caller's intersectLight(o, d)
     for (int crossing = 0; crossing < 32; ++crossing) {
-      const Hit h = intersect(o, d, dist, leaving, rays, record, false);
+      intersect(o, d, dist, leaving, leavingPrim, rays, record, h, false, crossing == 0 ? &firstLight : nullptr);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
@@ -290,6 +401,7 @@ struct PathTracer::Impl {
       if (maxComponent(T) < 1e-4) return {};
       o = h.p;
       leaving = h.material;
+      leavingPrim = h.prim;
       dist -= h.t;
       if (dist <= 0) return T;
     }
@@ -297,8 +409,8 @@ struct PathTracer::Impl {
   }
 
   /// Light from the spherical lamp at p with a cosine (surface) or isotropic (medium) lobe.
-  Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, const MediumStack& stack, Rng& rng, uint64_t& rays,
-                   std::vector<RecordedRay>* record) const {
+  Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Rng& rng, uint64_t& rays,
+                   std::vector<RecordedRay>* record, Hit& scratch) const {
     if (settings.lightRadius <= 0) return {};
     const Vec3 toCentre = settings.lightPosition - p;
     const Real d2 = lengthSquared(toCentre), r2 = settings.lightRadius * settings.lightRadius;
@@ -310,7 +422,7 @@ struct PathTracer::Impl {
     const Vec3 w = toCentre / std::sqrt(d2);
     Vec3 t, b;
     basis(w, t, b);
-    const Vec3 dir = normalize(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + w * cosT);
+    const Vec3 dir = unit(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + w * cosT);
     const Real pdf = 1 / (2 * M_PI * (1 - cosMax));
     Real lobe;  // BSDF or phase function times cosine
     if (normal) {
@@ -322,11 +434,12 @@ struct PathTracer::Impl {
     }
     const Real tl = intersectLight(p, dir);
     if (tl <= 0) return {};
-    const Vec3 T = transmittance(p, dir, tl, leaving, stack, rays, record);
+    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, rays, record, scratch);
     return mul(T, settings.lightEmission) * (lobe / pdf);
   }
 
-  Vec3 trace(Vec3 o, Vec3 d, Rng& rng, uint64_t& rays, std::vector<RecordedRay>* record) const {
+  /// `h`, `shadow`: scratch hits (the caller's, so that they are not cleared for every path).
+  Vec3 trace(Vec3 o, Vec3 d, Rng& rng, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow) const {
     Vec3 L, throughput{1, 1, 1};
     MediumStack stack;
     bool lightCounted = false;  // a direct-light estimate already covered this path's next light hit
@@ -334,14 +447,15 @@ struct PathTracer::Impl {
     int bounces = 0, passes = 0;
     // Light reached after a diffuse vertex through specular chains (caustics) has huge variance
     // at a few samples; like Cycles' "clamp indirect", cap such contributions.
-    auto add = [&](const Vec3& c) {
+    auto add = [&](const Vec3& c) __attribute__((always_inline)) {
       const Real m = maxComponent(c);
       L += indirect && m > settings.indirectClamp && settings.indirectClamp > 0 ? c * (settings.indirectClamp / m) : c;
     };
     Vec3 start = o;    // where the current segment begins
     int leaving = -1;  // the geometry the ray starts on
+    unsigned leavingPrim = 0;  // and its triangle
     while (bounces < settings.maxDepth) {
-      const Hit h = intersect(o, d, 1e30, leaving, rays, record);
+      intersect(o, d, 1e30, leaving, leavingPrim, rays, record, h);
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
@@ -353,7 +467,7 @@ struct PathTracer::Impl {
             throughput = mul(throughput, expNeg(m.absorption, s));
             add(mul(throughput, m.emission) * s);
             const Vec3 p = o + d * s;
-            add(mul(throughput, directLight(p, nullptr, -1, stack, rng, rays, record)));
+            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, rng, rays, record, shadow)));
             indirect = true;
             lightCounted = true;
             o = start = p;
@@ -365,7 +479,7 @@ struct PathTracer::Impl {
           }
         }
         if (seg < 1e30) {
-          add(mul(throughput, m.emission) * seg);
+          if (m.emission != Vec3{}) add(mul(throughput, m.emission) * seg);  // adding zero changes nothing
           throughput = mul(throughput, expNeg(m.absorption, seg));
         }
       }
@@ -384,10 +498,10 @@ struct PathTracer::Impl {
       }
       if (!m || m->kind == MaterialSpec::Kind::Diffuse) {  // the table, or a diffuse mesh
         const Vec3 albedo = m ? m->colour : floorAlbedo(h.p);
-        Hit facing = h;
-        if (dot(d, h.ng) > 0) facing.ng = -h.ng, facing.ns = -h.ns;
-        add(mul(throughput, diffuseBounce(facing, albedo, o, d, stack, rng, rays, record)));
+        if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
+        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, rng, rays, record, shadow)));
         leaving = m ? h.material : -1;
+        leavingPrim = h.prim;
         indirect = true;
         throughput = mul(throughput, albedo);
         start = o;
@@ -398,9 +512,9 @@ struct PathTracer::Impl {
       }
       // A dielectric boundary (clear liquid, glass, bubble, or a medium's surface).
       const bool entering = dot(d, h.ng) < 0;
-      const int current = stack.top(materials);
+      const int current = medium;  // the stack has not changed since
       // Leaving a volume is real when it is the medium, or when the ray was never known to be in it.
-      const bool real = entering ? m->priority >= stack.topPriority(materials)
+      const bool real = entering ? m->priority >= (current < 0 ? -1 : materials[current].priority)
                                  : current == h.material || !stack.contains(h.material);
       if (!real) {
         // Inside a volume of higher priority: this boundary does not exist there.
@@ -408,6 +522,7 @@ struct PathTracer::Impl {
         else stack.remove(h.material);
         o = h.p;
         leaving = h.material;
+        leavingPrim = h.prim;
         if (++passes > 64) break;
         continue;  // the segment goes on from `start`
       }
@@ -430,19 +545,21 @@ struct PathTracer::Impl {
       Vec3 next;
       bool reflect = rng.uniform() < F;
       if (!reflect) {
-        next = normalize(d * eta + n * (eta * cosi - cost));
+        next = unit(d * eta + n * (eta * cosi - cost));
         if (dot(next, incidentSide) >= 0) reflect = true;  // shading normal bent it back
       }
       if (reflect) {
-        next = normalize(d + n * (2 * cosi));
-        if (dot(next, incidentSide) <= 0) next = normalize(d + incidentSide * (-2 * dot(d, incidentSide)));
+        next = unit(d + n * (2 * cosi));
+        if (dot(next, incidentSide) <= 0) next = unit(d + incidentSide * (-2 * dot(d, incidentSide)));
         o = start = h.p;
         leaving = h.material;
+        leavingPrim = h.prim;
         lightCounted = false;  // reflections are not covered by the transparent shadow rays
       } else {
         stack = after;
         o = start = h.p;
         leaving = h.material;
+        leavingPrim = h.prim;
       }
       d = next;
       ++bounces;
@@ -452,18 +569,18 @@ struct PathTracer::Impl {
   }
 
   Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Rng& rng,
-                     uint64_t& rays, std::vector<RecordedRay>* record) const {
+                     uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch) const {
     // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
     const bool mesh = h.kind == Hit::Mesh;
     const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
-    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, stack, rng, rays, record));
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, rng, rays, record, scratch));
     o = p;
     d = cosineHemisphere(h.ns, rng);
     if (dot(d, h.ng) <= 0) d = cosineHemisphere(h.ng, rng);
     return direct;
   }
 
-  static bool russianRoulette(Vec3& throughput, int bounces, Rng& rng) {
+  MF_INLINE static bool russianRoulette(Vec3& throughput, int bounces, Rng& rng) {
     if (bounces < 4) return true;
     const Real q = std::min(0.95, maxComponent(throughput));
     if (q <= 0 || rng.uniform() >= q) return false;
@@ -501,6 +618,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
     uint64_t& count = rays.local();
     std::vector<RecordedRay>* rec = record ? &recorded.local() : nullptr;
+    Hit hit, shadow;
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < s.width; ++x) {
         Vec3 sum;
@@ -508,8 +626,8 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           Rng rng(uint64_t(frame) + 1, uint64_t(y) * uint64_t(s.width) + x, uint64_t(k));
           const Real px = (2 * (x + rng.uniform()) / s.width - 1) * tanHalf * aspect;
           const Real py = (1 - 2 * (y + rng.uniform()) / s.height) * tanHalf;
-          const Vec3 d = normalize(im.camW + im.camU * px + im.camV * py);
-          Vec3 c = im.trace(s.cameraPosition, d, rng, count, rec);
+          const Vec3 d = unit(im.camW + im.camU * px + im.camV * py);
+          Vec3 c = im.trace(s.cameraPosition, d, rng, count, rec, hit, shadow);
           if (!isFinite(c)) c = {};
           sum += c;
         }

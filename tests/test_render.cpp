@@ -176,6 +176,34 @@ TEST(Render, AbsorptionFollowsBeerLambert) {
   }
 }
 
+TEST(Render, VolumeWithinEpsilonIsEntered) {
+  // Two absorbing volumes (n = 1) 10 um apart, less than the renderer's epsilon (2e-5 of the
+  // scene's size, here 58 um), like water against a glass wall: the ray that leaves the first
+  // must still enter the second (a ray that skipped everything within epsilon, not only the
+  // surface it leaves, would cross the second unabsorbed). The emitter lies inside the second
+  // volume, so that the path has three boundaries and no Russian roulette.
+  const Vec3 sigma1{5, 20, 40}, sigma2{2, 1, 0.5};  // 1/m
+  const Real d1 = 0.02, gap = 1e-5;
+  MaterialSpec first, second;
+  first.ior = second.ior = 1.0;
+  first.absorption = sigma1;
+  second.absorption = sigma2;
+  std::vector<Surface> surfaces;
+  surfaces.push_back({"first", boxMesh({-1, -1, -d1}, {1, 1, 0}), first});
+  surfaces.push_back({"second", boxMesh({-1, -1, -0.6}, {1, 1, -d1 - gap}), second});
+  surfaces.push_back({"white", boxMesh({-1, -1, -0.51}, {1, 1, -0.5}), emitter({1, 1, 1})});
+  RenderSettings s = darkStudio(9, 9, 2);
+  s.cameraPosition = {0, 0, 0.5};
+  s.lookAt = {0, 0, 0};
+  s.fov = 1;
+  const Vec3 c = PathTracer(std::move(surfaces), s).render(0).at(4, 4);
+  const Real d2 = 0.5 - d1 - gap;  // to the emitter's face
+  for (int k = 0; k < 3; ++k) {
+    const Real expected = std::exp(-sigma1[k] * d1) * std::exp(-sigma2[k] * d2);
+    EXPECT_NEAR(c[k], expected, 1e-4 * expected + 1e-6) << "channel " << k;
+  }
+}
+
 TEST(Render, SameBitsOnAnyThreadCount) {
   Image one, two;
   {
