@@ -1,12 +1,22 @@
-// SPH smoothing kernels of Mueller, Charypar & Gross 2003 ("Particle-based fluid simulation
-// for interactive applications"), as used by Mueller et al. 2005. h is the support radius:
-// every kernel is zero for r >= h.
-//  - poly6 for density (eq. 1 of the 2005 paper): smooth, cheap (needs only r^2);
-//  - spiky gradient for pressure (eq. 5): does not vanish at r -> 0, so close particles repel;
+// SPH smoothing kernels. h is the support radius: every kernel is zero for r >= h.
+// Mueller, Charypar & Gross 2003, as used by Mueller et al. 2005:
+//  - poly6 (eq. 1 of the 2005 paper): colour fields; density in the papers' kernel choice;
+//  - spiky gradient for pressure (eq. 5) in the papers' choice;
 //  - viscosity-kernel Laplacian for viscosity (eq. 9): positive everywhere, so viscosity
 //    only removes relative kinetic energy.
-// Each is normalised so that the integral of W over its support is 1 (tested).
+// Wendland C2 (Wendland 1995; Dehnen & Aly 2012): density and, through its own gradient,
+// pressure, by default. A pressure force that is the gradient of the density kernel is the
+// gradient of the elastic energy of that density, so a closed box cannot gain energy; the
+// papers' spiky gradient on poly6 densities is not, and pumps energy into still water (a box
+// of it reached 6 m/s within 1 s). poly6's own gradient would be conservative but vanishes so
+// fast at r -> 0 that compressed particles collapse into pairs (median nearest neighbour 0.06
+// spacings in still water); Wendland C2's gradient peaks at h/4, well inside the nearest
+// neighbour, so pairs repel (Dehnen & Aly: no pairing at any neighbour count). Measured in
+// tests/test_physics.cpp (ClosedBox*).
+// Each W is normalised so that the integral of W over its support is 1 (tested).
 #pragma once
+
+#include <cmath>
 
 #include "vec3.h"
 
@@ -14,22 +24,76 @@ namespace mf {
 
 constexpr Real kPi = 3.14159265358979323846;
 
+/// Which kernels measure density and push with pressure (scene key solver.kernel).
+enum class KernelChoice {
+  WendlandC2,  // density W_wendland, pressure grad W_wendland (conservative; default)
+  Muller2003,  // density poly6, pressure grad W_spiky (the papers' choice)
+};
+
 struct SphKernels {
   Real h = 0, h2 = 0;
+  KernelChoice choice = KernelChoice::WendlandC2;
   Real poly6Coef = 0;        // 315 / (64 pi h^9)
   Real spikyCoef = 0;        // 15 / (pi h^6): W_spiky = c (h - r)^3
   Real spikyGradCoef = 0;    // -45 / (pi h^6)
   Real viscLapCoef = 0;      // 45 / (pi h^6)
+  Real wendlandCoef = 0;     // 21 / (2 pi h^3): W = c (1 - q)^4 (1 + 4 q), q = r / h
+  Real wendlandGradCoef = 0; // -20 c / h^2: grad W = c' (1 - q)^3 rij
+
+  Real selfWeight = 0;       // a particle's weight in its own density sum (see below)
 
   SphKernels() = default;
-  explicit SphKernels(Real supportRadius) {
+  /// `spacing`, the particles' mean spacing, sets Wendland C2's self-contribution correction;
+  /// 0 leaves it out.
+  explicit SphKernels(Real supportRadius, KernelChoice kernelChoice = KernelChoice::WendlandC2, Real spacing = 0) {
     h = supportRadius;
+    choice = kernelChoice;
     h2 = h * h;
     const Real h3 = h2 * h, h6 = h3 * h3, h9 = h6 * h3;
     poly6Coef = 315.0 / (64.0 * kPi * h9);
     spikyCoef = 15.0 / (kPi * h6);
     spikyGradCoef = -45.0 / (kPi * h6);
     viscLapCoef = 45.0 / (kPi * h6);
+    wendlandCoef = 21.0 / (2.0 * kPi * h3);
+    wendlandGradCoef = -20.0 * wendlandCoef / h2;
+    selfWeight = density(0);
+    if (choice == KernelChoice::WendlandC2 && spacing > 0) {
+      // Wendland kernels overestimate density by a part of the self-contribution (3.4 % on the
+      // rest lattice at h = 2 spacings); Dehnen & Aly 2012, eq. 18: subtract eps W(0), with
+      // eps = 0.0294 (N/100)^-0.977 for C2, N = 4/3 pi (h/spacing)^3 neighbours. A constant, so
+      // the pressure force (a gradient) is unchanged. Leaves 0.998 on the lattice at h = 2 s.
+      const Real neighbours = 4.0 / 3.0 * kPi * (h / spacing) * (h / spacing) * (h / spacing);
+      selfWeight *= 1 - 0.0294 * std::pow(neighbours / 100, -0.977);
+    }
+  }
+
+  /// The density kernel W(r) from r^2 (r2 < h2 required), and its checked form.
+  Real density(Real r2) const { return choice == KernelChoice::WendlandC2 ? wendland(r2) : poly6(r2); }
+  Real densityChecked(Real r2) const { return r2 < h2 ? density(r2) : 0; }
+
+  /// The kernel gradient of the pressure force at rij = xi - xj, r2 = |rij|^2 (zero outside
+  /// the support): grad W_wendland or grad W_spiky, as chosen.
+  Vec3 pressureGrad(const Vec3& rij, Real r2) const {
+    if (r2 >= h2) return {};
+    return choice == KernelChoice::WendlandC2 ? wendlandGrad(rij, r2) : spikyGrad(rij, std::sqrt(r2));
+  }
+
+  /// Scales the pressure gradient (the lattice normalisation of Simulation; a constant factor
+  /// keeps a conservative force conservative).
+  void scalePressureGradient(Real factor) {
+    spikyGradCoef *= factor;
+    wendlandGradCoef *= factor;
+  }
+
+  /// Wendland C2 W(r) from r^2 (r2 < h2 required).
+  Real wendland(Real r2) const {
+    const Real q = std::sqrt(r2) / h, a = 1 - q;
+    return wendlandCoef * (a * a) * (a * a) * (1 + 4 * q);
+  }
+  /// grad W_wendland at rij with r2 = |rij|^2 < h2.
+  Vec3 wendlandGrad(const Vec3& rij, Real r2) const {
+    const Real a = 1 - std::sqrt(r2) / h;
+    return rij * (wendlandGradCoef * a * a * a);
   }
 
   /// W_poly6(r) from r^2; r2 must be < h2 (callers filter by r2 < h2 first).

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels.h"
 #include "vec3.h"
 
 namespace mf {
@@ -73,6 +74,7 @@ struct SolverSettings {
   Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid
   Real smoothingRatio = 2.0;        // h / spacing; 2 gives about 33 neighbours
   DensityFormulation density = DensityFormulation::Mass;
+  KernelChoice kernel = KernelChoice::WendlandC2;  // density and pressure kernels (kernels.h)
   bool clampNegativePressure = true;  // free surfaces: no tensile pressure
   Real cfl = 0.4;                   // dt <= cfl h / (c_max + v_max)
   Real forceFactor = 0.25;          // dt <= forceFactor sqrt(h / a_max)

@@ -278,6 +278,8 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.smoothingRatio = s.number("smoothing_ratio", o.smoothingRatio, 1.2, 4.0);
   o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number
                                                                                     : DensityFormulation::Mass;
+  o.kernel = s.text("kernel", "wendland", {"wendland", "muller2003"}) == "muller2003" ? KernelChoice::Muller2003
+                                                                                     : KernelChoice::WendlandC2;
   o.clampNegativePressure = s.boolean("clamp_negative_pressure", o.clampNegativePressure);
   o.cfl = s.number("cfl", o.cfl, 0, 10, "", true);
   o.forceFactor = s.number("force_factor", o.forceFactor, 0, 10, "", true);

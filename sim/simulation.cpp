@@ -63,7 +63,10 @@ Real parallelMax(size_t n, F&& value) {
 }  // namespace
 
 Real latticeKernelSum(const SphKernels& K, Real s) {
-  return sumOverRestLattice(K, s, [&](int i, int j, int k) { return K.poly6Checked(s * s * Real(i * i + j * j + k * k)); });
+  return sumOverRestLattice(K, s, [&](int i, int j, int k) {
+    const int r2 = i * i + j * j + k * k;
+    return r2 == 0 ? K.selfWeight : K.densityChecked(s * s * Real(r2));
+  });
 }
 
 Real phaseParticleMass(const PhaseSpec& ph, const SphKernels& kernels, Real spacing) {
@@ -87,7 +90,8 @@ ParticleInit newParticleOfPhase(const PhaseSpec& ph, uint16_t phaseIndex, Real m
 }
 
 std::vector<Real> phaseParticleMasses(const Scene& scene) {
-  const SphKernels K(scene.solver.particleSpacing * scene.solver.smoothingRatio);
+  const SphKernels K(scene.solver.particleSpacing * scene.solver.smoothingRatio, scene.solver.kernel,
+                     scene.solver.particleSpacing);
   std::vector<Real> m;
   for (const PhaseSpec& ph : scene.phases) m.push_back(phaseParticleMass(ph, K, scene.solver.particleSpacing));
   return m;
@@ -97,18 +101,19 @@ Real latticeGradientMoment(const SphKernels& K, Real s) {
   const Real volume = 1.0 / latticeKernelSum(K, s);
   return sumOverRestLattice(K, s, [&](int i, int j, int k) {
     const Vec3 xj(i * s, j * s, k * s);  // neighbour; particle i at the origin
-    return volume * xj.y * K.spikyGrad(-xj, length(xj)).y;
+    return volume * xj.y * K.pressureGrad(-xj, lengthSquared(xj)).y;
   });
 }
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
   const SolverSettings& st = scene_.solver;
-  kernels_ = SphKernels(st.particleSpacing * st.smoothingRatio);
+  kernels_ = SphKernels(st.particleSpacing * st.smoothingRatio, st.kernel, st.particleSpacing);
   // Gradient normalisation on the rest lattice: sum_j V_j (x_j - x_i) (x) grad W_ij should be
-  // the identity, so that a linear pressure field gives exactly its gradient. The spiky kernel
-  // at h = 2 spacings gives 0.947 (settled hydrostatic pressure 5.6 % high); one constant
-  // factor, computed once, fixes that without touching the force's symmetry.
-  kernels_.spikyGradCoef /= latticeGradientMoment(kernels_, st.particleSpacing);
+  // the identity, so that a linear pressure field gives exactly its gradient. At h = 2 spacings
+  // the spiky kernel gives 0.947 and Wendland C2 0.950 (settled hydrostatic pressure 5 % high);
+  // one constant factor, computed once, fixes that without touching the force's symmetry, and
+  // a constant factor keeps a conservative force conservative.
+  kernels_.scalePressureGradient(1 / latticeGradientMoment(kernels_, st.particleSpacing));
 
   const Real wallSpacing = st.particleSpacing * st.boundarySpacingRatio;
   wallOffset_ = wallSampleOffset(kernels_, st.particleSpacing, wallSpacing);
@@ -243,20 +248,20 @@ void Simulation::searchAndDensity() {
   times_.neighborSearch += std::chrono::duration<double>(t1 - t0).count();
   const bool numberDensity = scene_.solver.density == DensityFormulation::Number;
   const SphKernels& K = kernels_;
-  const Real w0 = K.poly6(0);
+  const Real w0 = K.selfWeight;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps_.position[i];
       Real fluidSum = 0;  // sum_j m_j W_ij, or sum_j W_ij for number density
       for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
         const uint32_t j = fluidNeighbors_.indices[k];
-        const Real w = K.poly6Checked(lengthSquared(xi - ps_.position[j]));
+        const Real w = K.densityChecked(lengthSquared(xi - ps_.position[j]));
         fluidSum += numberDensity ? w : ps_.mass[j] * w;
       }
       Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
       for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
         const uint32_t b = boundaryNeighbors_.indices[k];
-        wallSum += boundary_.volume[b] * K.poly6Checked(lengthSquared(xi - boundary_.position[b]));
+        wallSum += boundary_.volume[b] * K.densityChecked(lengthSquared(xi - boundary_.position[b]));
       }
       const Real mi = ps_.mass[i], rho0 = ps_.restDensity[i];
       if (numberDensity) {

@@ -128,7 +128,8 @@ Real sumOverRestLattice(const SphKernels& kernels, Real spacing, F&& f) {
   return sum;
 }
 
-/// Sum over a cubic lattice of spacing s of W_poly6 within h (includes the centre): the
+/// Sum over a cubic lattice of spacing s of the density kernel within h (the centre weighted by
+/// selfWeight): the
 /// number density of a particle inside a uniform block. Used to give seeded particles a mass
 /// so that the block starts exactly at rest density.
 Real latticeKernelSum(const SphKernels& kernels, Real spacing);
@@ -147,7 +148,8 @@ ParticleInit newParticleOfPhase(const PhaseSpec& phase, uint16_t phaseIndex, Rea
 /// effects that create particles; they are built before the simulation's kernels exist).
 std::vector<Real> phaseParticleMasses(const Scene& scene);
 
-/// sum_j V (x_j - x_i)_y d/dy_i W_spiky over the same lattice (1 for an exact gradient).
+/// sum_j V (x_j - x_i)_y d/dy_i W over the same lattice, W the pressure force's kernel (1 for
+/// an exact gradient).
 Real latticeGradientMoment(const SphKernels& kernels, Real spacing);
 
 }  // namespace mf

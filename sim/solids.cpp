@@ -107,7 +107,7 @@ BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernel
   tbb::parallel_for(size_t(0), b.size(), [&](size_t i) {
     Real sum = 0;
     for (uint64_t k = nl.begin(i); k < nl.end(i); ++k)
-      sum += kernels.poly6Checked(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
+      sum += kernels.densityChecked(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
     b.volume[i] = 1.0 / sum;  // sum includes the sample itself, so it is > 0
   });
   return b;
@@ -121,7 +121,8 @@ Real wallSampleOffset(const SphKernels& K, Real s, Real b) {
   for (int k = -nf; k <= nf; ++k)
     for (int j = -nf; j <= nf; ++j)
       for (int i = -nf; i <= nf; ++i) {
-        const Real w = K.poly6Checked(s * s * Real(i * i + j * j + k * k));
+        const int r2 = i * i + j * j + k * k;
+        const Real w = r2 == 0 ? K.selfWeight : K.densityChecked(s * s * Real(r2));
         full += w;
         if (k >= 0) half += w;
       }
@@ -129,12 +130,12 @@ Real wallSampleOffset(const SphKernels& K, Real s, Real b) {
   // One wall layer at depth `offset` below the surface: contribution sum_b V_b W, V_b = 1/sum_k W_bk.
   Real layerAtSelf = 0;
   for (int j = -nb; j <= nb; ++j)
-    for (int i = -nb; i <= nb; ++i) layerAtSelf += K.poly6Checked(b * b * Real(i * i + j * j));
+    for (int i = -nb; i <= nb; ++i) layerAtSelf += K.densityChecked(b * b * Real(i * i + j * j));
   auto wallContribution = [&](Real offset) {
     const Real dz = 0.5 * s + offset;
     Real sum = 0;
     for (int j = -nb; j <= nb; ++j)
-      for (int i = -nb; i <= nb; ++i) sum += K.poly6Checked(b * b * Real(i * i + j * j) + dz * dz);
+      for (int i = -nb; i <= nb; ++i) sum += K.densityChecked(b * b * Real(i * i + j * j) + dz * dz);
     return sum / layerAtSelf;
   };
   Real lo = 0, hi = K.h;  // contribution falls monotonically with the offset

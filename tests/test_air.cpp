@@ -69,7 +69,7 @@ viscosity = 0.2
 [[phase]]
 name = "air"
 rest_density = 100.0
-stiffness = 400.0
+stiffness = 1000.0  # c = 32 m/s; at 400 an air particle born under the 2.5 m/s jet was crushed by 50 %
 viscosity = 0.02
 [[solid]]
 name = "tank"
@@ -354,7 +354,7 @@ coefficient = {}
   for (size_t k = 1; k < path.size(); ++k) EXPECT_GT(path[k], path[k - 1]) << "sample " << k;
   // Nothing is removed while the bubble is inside: the first particle goes when the bubble's top
   // is within two spacings of the surface (0.2 m; the pool is a spacing higher where the bubble
-  // pushes the water up).
+  // pushes the water up). Measured 0.2003 m.
   EXPECT_GT(topAtFirstLoss, 0.18);
   EXPECT_EQ(bubbleLeft(), 0u);  // and all of it leaves there
 }

@@ -260,9 +260,14 @@ sigma = {}
 }
 
 TEST(InterfaceTension, RandomMixtureSortsItself) {
-  // Equal densities, no gravity: only interface tension can sort the fluids. Measured: the
-  // unlike-contact fraction falls from 0.979 to 0.16 in 4.2 s (6.0x); the issue asks 5x.
-  EXPECT_GT(mixtureContactRatio(0.6, 4.2), 5.0);
+  // Equal densities, no gravity: only interface tension can sort the fluids; the issue asks the
+  // unlike-contact fraction to fall 5x. Measured with sigma = 1.5 N/m: 1.85x at 1 s, 4.95x at
+  // 3 s, 5.9x at 4 s, 6.7x at 5 s. (With sigma = 0.6 it was 6.0x at 4.2 s under the papers'
+  // kernels, whose non-conservative pressure stirred the particles; with the conservative
+  // default it is 3.5x: coarsening is driven by tension alone.)
+  const Real ratio = mixtureContactRatio(1.5, 4.2);
+  std::printf("random mixture: unlike contacts fell %.2fx in 4.2 s\n", ratio);
+  EXPECT_GT(ratio, 5.0);
   // Without it nothing sorts (the particles stay where they were seeded).
   EXPECT_LT(mixtureContactRatio(0.0, 1.0), 1.2);
 }

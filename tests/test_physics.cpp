@@ -1,8 +1,11 @@
 // Conservation laws and the behaviour of the core that have exact or analytic answers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -69,6 +72,101 @@ TEST(Physics, LinearMomentumConservedWithoutWallsOrGravity) {
     EXPECT_EQ(sim.counters().retries, 0u);
     (void)scale1;
   }
+}
+
+// Water in a closed box 0.1 m wide: `still` fills it 0.1 m deep at rest, otherwise a 0.1 m
+// block starts 0.05 m above the floor moving down at 2 m/s (the report's drop).
+std::string closedBox(bool still) {
+  return std::string(R"(
+[scene]
+name = "closed_box"
+end_time = 1.0
+domain_min = [-0.01, -0.01, -0.01]
+domain_max = [0.11, 0.21, 0.11]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+viscosity = 0.1
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.1]
+[[fluid]]
+phase = "water"
+)") + (still ? "min = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n"
+             : "min = [0.0, 0.05, 0.0]\nmax = [0.1, 0.15, 0.1]\nvelocity = [0.0, -2.0, 0.0]\n") +
+         "[effects.gravity]\n[effects.pressure]\n[effects.viscosity]\n";
+}
+
+// Kinetic + gravitational (above the floor, y = 0) + elastic energy. The pressure force is
+// -grad of sum_i m_i k (ln(rho_i/rho0) + rho0/rho_i - 1) (clamped: only where rho > rho0) times
+// the lattice normalisation 1/M of the kernel gradient, so that is the elastic energy it stores.
+double closedBoxEnergy(const mf::Simulation& sim) {
+  const auto& ps = sim.particles();
+  const double spacing = sim.scene().solver.particleSpacing;
+  const double M = mf::latticeGradientMoment(mf::SphKernels(sim.kernels().h, sim.kernels().choice, spacing), spacing);
+  double e = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const double m = ps.mass[i], r = ps.density[i] / ps.restDensity[i];
+    e += m * (0.5 * mf::lengthSquared(ps.velocity[i]) + 9.81 * ps.position[i].y);
+    if (r > 1) e += m * ps.stiffness[i] * (std::log(r) + 1 / r - 1) / M;
+  }
+  return e;
+}
+
+struct BoxRun {
+  double growth = 0;  // max over steps of (E - E0) / E0
+  double vmax = 0;    // largest speed at the end
+  double medianNearest = 0;  // median nearest-neighbour distance at the end, in spacings
+};
+
+BoxRun runClosedBox(bool still, double endTime, const std::string& kernel, double cfl = 0.4) {
+  mf::Simulation sim(mf::parseScene(closedBox(still), "closed_box", {"solver.kernel=" + kernel, "solver.cfl=" + std::to_string(cfl)}));
+  const double e0 = closedBoxEnergy(sim);
+  BoxRun r;
+  sim.advanceTo(endTime, [&](const mf::Simulation& s) { r.growth = std::max(r.growth, closedBoxEnergy(s) / e0 - 1); });
+  const auto& ps = sim.particles();
+  std::vector<double> nearest(ps.size(), 1e9);
+  for (size_t i = 0; i < ps.size(); ++i) {
+    r.vmax = std::max(r.vmax, double(mf::length(ps.velocity[i])));
+    for (size_t j = 0; j < ps.size(); ++j)
+      if (j != i) nearest[i] = std::min(nearest[i], double(mf::length(ps.position[i] - ps.position[j])));
+  }
+  std::nth_element(nearest.begin(), nearest.begin() + long(nearest.size() / 2), nearest.end());
+  r.medianNearest = nearest[nearest.size() / 2] / sim.scene().solver.particleSpacing;
+  std::printf("closed box (%s, %s, cfl %.2f): energy growth %+.2f %%, max speed %.3f m/s, median nearest neighbour %.3f spacings\n",
+              still ? "still water" : "drop", kernel.c_str(), cfl, 100 * r.growth, r.vmax, r.medianNearest);
+  return r;
+}
+
+// A closed, viscous box has no energy source: its energy may only fall. The pressure force of
+// the default kernels is conservative, so what remains is symplectic Euler's O(dt) energy error.
+// Still water: measured +0.02 % (limit 1 %), 0.12 m/s of acoustic ringing from the seeding
+// lattice (limit 0.3 m/s), median nearest neighbour 0.93 spacings (poly6's own gradient
+// collapsed it into pairs at 0.06; limit 0.8). The papers' spiky gradient on poly6 densities is
+// not conservative: the same still water gains 665 % within 0.6 s, particles reach 7 m/s; the
+// test requires that too (> 50 %), so that it can tell the two apart.
+TEST(Physics, ClosedBoxOfStillWaterGainsNoEnergy) {
+  const BoxRun wendland = runClosedBox(true, 0.6, "wendland");
+  EXPECT_LT(wendland.growth, 0.01);
+  EXPECT_LT(wendland.vmax, 0.3);
+  EXPECT_GT(wendland.medianNearest, 0.8);
+  const BoxRun muller = runClosedBox(true, 0.6, "muller2003");
+  EXPECT_GT(muller.growth, 0.5) << "the papers' kernels were expected to pump energy into still water";
+}
+
+// The drop: the impact overshoots by the integrator's error, which halves with the time step
+// (measured +3.7 % at cfl 0.4, +2.0 % at 0.2; the papers' kernels: +96 % at 0.4). Limits: 5 %,
+// and halving the step must take off at least 30 % of it (first order: 50 %).
+TEST(Physics, ClosedBoxDropGainsOnlyTheIntegratorsError) {
+  const BoxRun r = runClosedBox(false, 0.6, "wendland");
+  const BoxRun half = runClosedBox(false, 0.6, "wendland", 0.2);
+  EXPECT_LT(r.growth, 0.05);
+  EXPECT_LT(half.growth, 0.7 * r.growth);
+  EXPECT_GT(r.medianNearest, 0.6);  // splashing spreads it (measured 0.78); pairs would be < 0.3
 }
 
 // Two fluids layered 1:10 at rest on the seeding lattice, far from walls.

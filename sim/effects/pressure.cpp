@@ -9,6 +9,9 @@
 // Walls (Akinci et al. 2012, eq. 10): a boundary sample b pushes with the particle's own
 // pressure and volume rho0_i V_b / rho_i:  F_i -= V_i sum_b (rho0_i V_b / rho_i) p_i grad W.
 // This is the force that follows from the wall's share rho0_i sum_b V_b W_ib of the density.
+// grad W is the gradient of the density kernel (Wendland C2) by default, so that the force is
+// minus the gradient of the elastic energy of the SPH density and a closed box only loses
+// energy; solver.kernel = "muller2003" restores the papers' spiky gradient (sim/kernels.h).
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -72,7 +75,7 @@ class Pressure final : public Effect {
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
           const Vec3 rij = xi - x[j];
-          const Vec3 grad = K.spikyGrad(rij, std::sqrt(lengthSquared(rij)));
+          const Vec3 grad = K.pressureGrad(rij, lengthSquared(rij));
           // (L_i + L_j)/2 keeps the pair term antisymmetric.
           const Vec3 g = L ? (L[i] * grad + L[j] * grad) * 0.5 : grad;
           sum += g * (V[j] * (pi + p[j]));
@@ -83,7 +86,7 @@ class Pressure final : public Effect {
           for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
             const uint32_t b = nb.indices[k];
             const Vec3 rib = xi - ctx.boundary.position[b];
-            wall += K.spikyGrad(rib, std::sqrt(lengthSquared(rib))) * (ctx.boundary.volume[b] * mirror);
+            wall += K.pressureGrad(rib, lengthSquared(rib)) * (ctx.boundary.volume[b] * mirror);
           }
           sum += L ? L[i] * wall : wall;
         }
@@ -110,14 +113,14 @@ class Pressure final : public Effect {
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
           const Vec3 rij = xi - ps.position[j];
-          A.addOuter(-rij, K.spikyGrad(rij, std::sqrt(lengthSquared(rij))), ps.volume[j]);
+          A.addOuter(-rij, K.pressureGrad(rij, lengthSquared(rij)), ps.volume[j]);
         }
         const NeighborLists& nb = ctx.boundaryNeighbors;
         const Real wallVolume = ps.restDensity[i] / ps.density[i];
         for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
           const uint32_t b = nb.indices[k];
           const Vec3 rib = xi - ctx.boundary.position[b];
-          A.addOuter(-rib, K.spikyGrad(rib, std::sqrt(lengthSquared(rib))), wallVolume * ctx.boundary.volume[b]);
+          A.addOuter(-rib, K.pressureGrad(rib, lengthSquared(rib)), wallVolume * ctx.boundary.volume[b]);
         }
         const Real d = A.det();
         Mat3 L;  // identity
