@@ -180,8 +180,8 @@ class InterfaceTension final : public Effect {
           const Vec3 rij = xi - ps.position[j];
           const Real r2 = lengthSquared(rij);
           if (r2 >= K.h2) continue;
-          // poly6's gradient vanishes at r -> 0: the tangential tension cannot pull a pair
-          // together faster than the spiky pressure gradient pushes it apart (no pairing).
+          // poly6's gradient vanishes at r -> 0, so the tangential tension has no grip on a
+          // close pair; pressure keeps pairs apart.
           const Vec3 g = D.grad(rij, r2) * ps.volume[j];
           f += Si.times(g) + Sj.times(g);
         }
