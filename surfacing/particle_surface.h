@@ -1,7 +1,8 @@
-// Particles of one fluid to a narrow-band level set: Zhu & Bridson (2005) averaged-position
-// distance (OpenVDB's points::rasterizeSmoothSpheres), a bilateral filter on the distance
-// (bilateral_filter.h), renormalisation to a true distance with a 3-voxel half width, and a cut
-// where the surface bulges through a container wall.
+// Particles of one fluid to a narrow-band level set: per connected body of particles, Zhu &
+// Bridson (2005) averaged-position distance (OpenVDB's points::rasterizeSmoothSpheres) and a
+// bilateral filter on the distance (bilateral_filter.h); the bodies' union, renormalised to a
+// true distance with a 3-voxel half width; and a cut where the surface bulges through a
+// container wall.
 #pragma once
 
 #include <openvdb/openvdb.h>
@@ -28,6 +29,12 @@ struct ParticleSurface {
 ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
                                    const std::vector<openvdb::Vec3f>& velocities, double particleSpacing,
                                    const SurfacingSettings& settings);
+
+/// @brief Connected parts of a fluid: particles closer than `link` belong to one body
+/// (particlesToSurface links particles closer than 1.5 spacings and surfaces each body as if
+/// alone). Returns the number of bodies; body[i] numbers them 0.. in order of each body's lowest
+/// particle index. The same on any thread count.
+uint32_t findBodies(const std::vector<openvdb::Vec3d>& positions, double link, std::vector<uint32_t>& body);
 
 /// @brief Cuts the level set where it reaches through a container wall: outside each container,
 /// within `shell` of its surface, the distance becomes max(phi, distance to the container's

@@ -118,30 +118,110 @@ size_t fluidComponents(const openvdb::FloatGrid& ls) {
   return parts.size();
 }
 
-// The issue asks for droplets one voxel apart; Zhu & Bridson's averaged position bridges gaps
-// narrower than about its kernel, and the bilateral filter cannot reopen them (the other
-// droplet's inside looks like its own). This test holds what is reached today: droplets of
-// radius 4 spacings, 10 spacings apart (surfaces 3.8 voxels apart) stay two; at 9 (1.8 voxels)
-// they merge, which the test prints.
-TEST(Surfacing, DropletsFourVoxelsApartStaySeparate) {
+// Droplets of radius 4 spacings (lattice, 280 particles each) whose surfaces are one voxel
+// apart stay two (issue 5). Their surfaces are taken as the spheres of their particles' volume
+// N s^3 (radius R = 4.06 spacings), and the test places them exactly one voxel apart: one voxel
+// is the least a voxel grid can resolve in general (closer surfaces can leave no voxel centre
+// between them, and the inside voxels then touch face to face). Four sub-voxel placements,
+// straddling the origin. Separation must not come from shrinking the droplets: on the axis
+// between them each keeps the surface it has alone (measured 0.01 voxels; the bound of 0.25
+// leaves room for renormalising the union). Both level sets lie 0.3 voxels inside their volume
+// spheres there (a lattice droplet is flat at its poles), so they are 1.6 voxels apart. Below
+// 0.8 voxels the nearest particles are closer than the link length (1.5 spacings): one body,
+// which Zhu & Bridson's kernel bridges; the test prints what happens at 0.7.
+TEST(Surfacing, DropletsOneVoxelApartStaySeparate) {
   const mf::SurfacingSettings s = defaults();
   const double voxel = s.voxelRatio * kSpacing, r = 0.04;
-  const Vec3d a(0.2, 0.2, 0.2);
   auto ball = [&](const Vec3d& c) {
     return lattice(c - Vec3d(r), c + Vec3d(r), 0.0, 3, [&](const Vec3d& p) { return (p - c).length() <= r; });
   };
-  const auto one = ball(a);
-  const double surfaceRadius = std::cbrt(3.0 * one.size() * std::pow(kSpacing, 3) / (4 * M_PI));
-  auto pair = [&](double offset) {
-    auto both = one;
-    const auto two = ball(a + Vec3d(offset, 0, 0));
-    both.insert(both.end(), two.begin(), two.end());
-    return fluidComponents(*mf::surfacing::particlesToSurface(both, {}, kSpacing, s).levelSet);
+  const double R = std::cbrt(3.0 * ball(Vec3d(0)).size() * std::pow(kSpacing, 3) / (4 * M_PI));
+  // The zero crossing of a level set on the x axis through c, searched from `from` towards `to`
+  // (inside at `from`).
+  auto crossing = [](const openvdb::FloatGrid& ls, const Vec3d& from, const Vec3d& to) {
+    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> phi(ls);
+    double lo = 0, hi = 1;  // phi(lo) < 0, phi(hi) > 0 somewhere on the way: first sign change
+    const int steps = 400;
+    for (int i = 1; i <= steps; ++i)
+      if (phi.wsSample(from + (to - from) * (double(i) / steps)) > 0) {
+        lo = double(i - 1) / steps, hi = double(i) / steps;
+        break;
+      }
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (phi.wsSample(from + (to - from) * mid) > 0 ? hi : lo) = mid;
+    }
+    return from + (to - from) * lo;
   };
-  const size_t apart = pair(10 * kSpacing), closer = pair(9 * kSpacing);
-  std::printf("droplets: %zu component(s) with surfaces %.2f voxels apart, %zu with %.2f voxels\n", apart,
-              (10 * kSpacing - 2 * surfaceRadius) / voxel, closer, (9 * kSpacing - 2 * surfaceRadius) / voxel);
-  EXPECT_EQ(apart, 2u);
+  auto pair = [&](double gapVoxels, const Vec3d& shift, std::vector<openvdb::Vec3f>* velocities = nullptr) {
+    const double offset = 2 * R + gapVoxels * voxel;
+    const Vec3d a = Vec3d(-0.5 * offset, 0, 0) + shift, b = a + Vec3d(offset, 0, 0);
+    auto both = ball(a);
+    const size_t n = both.size();
+    const auto two = ball(b);
+    both.insert(both.end(), two.begin(), two.end());
+    if (velocities) {
+      velocities->assign(both.size(), openvdb::Vec3f(1, 0, 0));
+      for (size_t i = n; i < both.size(); ++i) (*velocities)[i] = openvdb::Vec3f(-1, 0, 0);
+    }
+    return mf::surfacing::particlesToSurface(both, velocities ? *velocities : std::vector<openvdb::Vec3f>{}, kSpacing, s);
+  };
+  double minGap = 1e9, maxShrink = 0;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3d shift = 0.25 * k * voxel * Vec3d(1, 0.5, 0.25);
+    const double offset = 2 * R + voxel;
+    const Vec3d a = Vec3d(-0.5 * offset, 0, 0) + shift, b = a + Vec3d(offset, 0, 0);
+    std::vector<openvdb::Vec3f> v;
+    const auto surface = pair(1.0, shift, &v);
+    EXPECT_EQ(fluidComponents(*surface.levelSet), 2u) << "placement " << k;
+    // Surfaces on the axis, in the pair and alone.
+    const Vec3d aSide = crossing(*surface.levelSet, a, b), bSide = crossing(*surface.levelSet, b, a);
+    const auto aloneLs = mf::surfacing::particlesToSurface(ball(a), {}, kSpacing, s).levelSet;
+    const Vec3d aAlone = crossing(*aloneLs, a, b);
+    minGap = std::min(minGap, (bSide - aSide).length() / voxel);
+    maxShrink = std::max(maxShrink, std::fabs((aSide - aAlone).x()) / voxel);
+    EXPECT_LT(std::fabs((aSide - aAlone).x()), 0.25 * voxel) << "placement " << k;
+    // Each droplet keeps its own velocity next to the gap.
+    ASSERT_TRUE(surface.velocity);
+    openvdb::tools::GridSampler<openvdb::Vec3SGrid, openvdb::tools::PointSampler> vel(*surface.velocity);
+    EXPECT_GT(vel.wsSample(aSide - Vec3d(voxel, 0, 0)).x(), 0.99) << "placement " << k;
+    EXPECT_LT(vel.wsSample(bSide + Vec3d(voxel, 0, 0)).x(), -0.99) << "placement " << k;
+  }
+  const size_t closer = fluidComponents(*pair(0.7, Vec3d(0)).levelSet);
+  std::printf("droplets: volume spheres 1.00 voxel apart: 2 components at 4 placements, level sets %.2f voxels apart on "
+              "the axis, each within %.3f voxels of its surface alone; %zu component(s) at 0.70 voxels\n",
+              minGap, maxShrink, closer);
+}
+
+TEST(Surfacing, BodiesAreTheParticlesLinkedCloserThanTheLinkLength) {
+  // Random points straddling the origin (cell coordinates of both signs), dense enough for
+  // bodies of all sizes; against linking every pair.
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-0.15, 0.15);
+  std::vector<Vec3d> p(3000);
+  for (auto& q : p) q = Vec3d(u(rng), u(rng), u(rng));
+  const double link = 1.5 * kSpacing;
+  std::vector<uint32_t> parent(p.size());
+  for (uint32_t i = 0; i < p.size(); ++i) parent[i] = i;
+  std::function<uint32_t(uint32_t)> root = [&](uint32_t i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+  for (uint32_t i = 0; i < p.size(); ++i)
+    for (uint32_t j = i + 1; j < p.size(); ++j)
+      if ((p[i] - p[j]).length() < link) {
+        const uint32_t a = root(i), b = root(j);
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+  std::vector<uint32_t> expected(p.size()), label(p.size(), ~0u);
+  uint32_t count = 0;
+  for (uint32_t i = 0; i < p.size(); ++i) {
+    uint32_t& l = label[root(i)];
+    if (l == ~0u) l = count++;
+    expected[i] = l;
+  }
+  std::vector<uint32_t> body;
+  EXPECT_EQ(mf::surfacing::findBodies(p, link, body), count);
+  EXPECT_TRUE(body == expected);
+  EXPECT_GT(count, 100u);
+  EXPECT_LT(count, p.size() / 2);
 }
 
 TEST(Surfacing, CubeCornerSharperThanGaussianOfEqualStrength) {
@@ -263,17 +343,37 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
 namespace {
 
 TEST(Surfacing, SameBitsOnAnyThreadCount) {
-  const auto points = jitteredBall();
-  std::vector<float> reference;
-  for (int threads : {1, 2, 5}) {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    const auto ls = mf::surfacing::particlesToSurface(points, {}, kSpacing, defaults()).levelSet;
-    std::vector<float> values;
-    for (auto v = ls->cbeginValueOn(); v; ++v) values.push_back(*v);
-    if (reference.empty()) reference = values;
-    else EXPECT_TRUE(values == reference) << threads << " threads";
+  // The ball alone (one body), and with a droplet about a voxel off its side and lone
+  // particles around it (bodies surfaced in several passes, then united).
+  auto withSpray = jitteredBall();
+  const double voxel = defaults().voxelRatio * kSpacing;
+  const Vec3d droplet = kCentre + Vec3d(kBallRadius + 0.03 + 1.5 * voxel, 0, 0);
+  const auto drop = lattice(droplet - Vec3d(0.03), droplet + Vec3d(0.03), 0.0, 10,
+                            [&](const Vec3d& p) { return (p - droplet).length() <= 0.03; });
+  withSpray.insert(withSpray.end(), drop.begin(), drop.end());
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-0.14, 0.14);
+  for (int i = 0; i < 40; ++i) {
+    const Vec3d p = kCentre + Vec3d(u(rng), u(rng), u(rng));
+    if ((p - kCentre).length() > kBallRadius + 0.02 && (p - droplet).length() > 0.05) withSpray.push_back(p);
   }
-  EXPECT_GT(reference.size(), 1000u);
+  for (const bool spray : {false, true}) {
+    const auto points = spray ? withSpray : jitteredBall();
+    std::vector<float> reference;
+    for (int threads : {1, 2, 5}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+      const auto ls = mf::surfacing::particlesToSurface(points, {}, kSpacing, defaults()).levelSet;
+      std::vector<float> values;
+      for (auto v = ls->cbeginValueOn(); v; ++v) values.push_back(*v);
+      if (reference.empty()) reference = values;
+      else EXPECT_TRUE(values == reference) << threads << " threads" << (spray ? ", with spray" : "");
+    }
+    EXPECT_GT(reference.size(), 1000u);
+    if (spray) {
+      std::vector<uint32_t> body;
+      EXPECT_GT(mf::surfacing::findBodies(points, 1.5 * kSpacing, body), 20u);
+    }
+  }
 }
 
 }  // namespace
