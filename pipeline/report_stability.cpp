@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "report_util.h"
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -44,43 +45,6 @@ struct Outcome {
 };
 
 // ---- scenes ------------------------------------------------------------------------------------
-
-// A block of water thrown at the floor of a closed box (tests/test_watchdog.cpp's drop), all
-// lengths times `scale`, speed and time by sqrt(scale) (Froude similarity: the same flow at
-// another size; stiffness, viscosity and the time-step rules stay as they are).
-std::string dropText(double scale, double spacing, double endTime) {
-  const double L = scale, v = 2.0 * std::sqrt(scale);
-  return fmt::format(R"(
-[scene]
-name = "drop"
-end_time = {end}
-domain_min = [{lo}, {lo}, {lo}]
-domain_max = [{hx}, {hy}, {hx}]
-[solver]
-particle_spacing = {s}
-[[phase]]
-name = "water"
-rest_density = 1000.0
-stiffness = 1000.0
-viscosity = 0.1
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [{w}, {h}, {w}]
-[[fluid]]
-phase = "water"
-min = [0.0, {b0}, 0.0]
-max = [{w}, {b1}, {w}]
-velocity = [0.0, {v}, 0.0]
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
-)",
-                     fmt::arg("end", tomlReal(endTime * std::sqrt(scale))), fmt::arg("lo", tomlReal(-0.01 * L)),
-                     fmt::arg("hx", tomlReal(0.11 * L)), fmt::arg("hy", tomlReal(0.21 * L)), fmt::arg("s", tomlReal(spacing)),
-                     fmt::arg("w", tomlReal(0.1 * L)), fmt::arg("h", tomlReal(0.2 * L)), fmt::arg("b0", tomlReal(0.05 * L)),
-                     fmt::arg("b1", tomlReal(0.15 * L)), fmt::arg("v", tomlReal(-v)));
-}
 
 // Heavy water below a lighter fluid at rest (rest densities 1000 and 1000/ratio), one density
 // formulation; the light layer sits on the heavy one through the interface.
@@ -177,7 +141,7 @@ rate = 5.0
 
 std::vector<Case> cases(const Options& opt) {
   const double end = opt.quick ? 0.1 : 0.3;
-  const std::string drop = dropText(1, 0.01, end);
+  const std::string drop = closedBoxScene(false, 1, 0.01, end);
   std::vector<Case> list;
   auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
                  const std::string& text, const std::vector<std::string>& sets, bool closed = true) {
@@ -214,43 +178,15 @@ std::vector<Case> cases(const Options& opt) {
   // Particle spacing: 2 to 20 particles across the 0.1 m block, then the same 10 across at
   // 1 mm and at 10 m (Froude-scaled; stiffness unchanged).
   for (double s : q ? std::vector<double>{0.05} : std::vector<double>{0.05, 0.025, 0.01, 0.005})
-    add("spacing", fmt::format("s={:g}m", s), "solver.particle_spacing", s, dropText(1, s, end), {});
+    add("spacing", fmt::format("s={:g}m", s), "solver.particle_spacing", s, closedBoxScene(false, 1, s, end), {});
   if (!q)
     for (double scale : {0.01, 100.0})
       add("spacing", fmt::format("s={:g}m (scene x{:g})", 0.01 * scale, scale), "solver.particle_spacing",
-          0.01 * scale, dropText(scale, 0.01 * scale, end), {});
+          0.01 * scale, closedBoxScene(false, scale, 0.01 * scale, end), {});
   return list;
 }
 
 // ---- one case ----------------------------------------------------------------------------------
-
-// Kinetic + gravitational (above the lowest container floor) + elastic energy. The elastic
-// energy of P = k (rho - rho0) per unit mass is k (ln(rho/rho0) + rho0/rho - 1), counted only
-// where the pressure is not clamped to zero.
-double energy(const Simulation& sim, const Vec3& g, double floorY) {
-  const ParticleSet& ps = sim.particles();
-  const bool clamp = sim.scene().solver.clampNegativePressure;
-  double e = 0;
-  for (size_t i = 0; i < ps.size(); ++i) {
-    const double m = ps.mass[i];
-    e += 0.5 * m * lengthSquared(ps.velocity[i]);
-    e -= m * (g.x * ps.position[i].x + g.y * (ps.position[i].y - floorY) + g.z * ps.position[i].z);
-    const double r = ps.density[i] / ps.restDensity[i];
-    if (r > 1 || !clamp) e += m * ps.stiffness[i] * (std::log(r) + 1 / r - 1);
-  }
-  return e;
-}
-
-Vec3 gravityOf(const Scene& s) {
-  const EffectSpec* g = s.effect("gravity");
-  return g ? g->vector("acceleration") : Vec3{};
-}
-
-double floorOf(const Scene& s) {
-  double y = std::numeric_limits<double>::max();
-  for (const auto& solid : s.solids) y = std::min(y, solid.shape == SolidSpec::Shape::Box ? solid.min.y : solid.base.y);
-  return s.solids.empty() ? 0 : y;
-}
 
 // Energy growth is reported beside the status, not folded into it: it is measured in cases the
 // watchdog has nothing against, and a sweep's limits would otherwise hide behind it.
@@ -266,13 +202,11 @@ Outcome runOne(const Case& c) {
   const double cpu0 = processCpuSeconds();
   Simulation sim(c.scene);
   o.particles = sim.particles().size();
-  const Vec3 g = gravityOf(c.scene);
-  const double floorY = floorOf(c.scene);
-  const double e0 = energy(sim, g, floorY);
+  const double e0 = mechanicalEnergy(sim);
   double eMax = e0;
   try {
     sim.advanceTo(c.scene.endTime, [&](const Simulation& s) {
-      eMax = std::max(eMax, energy(s, g, floorY));
+      eMax = std::max(eMax, mechanicalEnergy(s));
       if (o.troubleStep < 0 && s.counters().retries > 0) {
         o.troubleStep = int64_t(s.stepCount()) - 1;  // the step just taken needed a retry
         o.troubleTime = s.time();
@@ -285,7 +219,7 @@ Outcome runOne(const Case& c) {
   }
   o.wall = secondsSince(t0);
   o.cpu = processCpuSeconds() - cpu0;
-  const double e1 = energy(sim, g, floorY);
+  const double e1 = mechanicalEnergy(sim);
   o.steps = sim.stepCount();
   o.retries = sim.counters().retries;
   o.lost = sim.counters().removedOutOfDomain;

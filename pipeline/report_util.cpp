@@ -168,12 +168,6 @@ std::string formatDuration(double s) {
   return s < 60 ? fmt::format("{:.1f}s", s) : fmt::format("{}m{:02d}s", int(s / 60), int(s) % 60);
 }
 
-std::string tomlReal(double v) {
-  std::string s = fmt::format("{:.10g}", v);
-  if (s.find_first_of(".en") == std::string::npos) s += ".0";
-  return s;
-}
-
 std::string escapeGnuplot(const std::string& s) {
   std::string r;
   for (char c : s) {

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "sim/diagnostics.h"
+
 namespace mf::report {
 
 struct Options {
@@ -63,8 +65,7 @@ std::vector<bool> paretoFront(const std::vector<double>& cost, const std::vector
 
 std::string fmtNumber(double v, int digits = 3);  // %.{digits}g; "-" for NaN
 std::string formatDuration(double seconds);  // "12.3s" or "4m05s"
-/// A TOML float literal (TOML needs a point or exponent: "1.0", not "1"), for scene overrides.
-std::string tomlReal(double v);
+// tomlReal (a TOML float literal for scene overrides) is mf::tomlReal, sim/diagnostics.h.
 std::string escapeGnuplot(const std::string& s);
 
 int runAccuracy(const Options& opt, const Machine& machine);

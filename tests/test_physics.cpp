@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -74,49 +75,6 @@ TEST(Physics, LinearMomentumConservedWithoutWallsOrGravity) {
   }
 }
 
-// Water in a closed box 0.1 m wide: `still` fills it 0.1 m deep at rest, otherwise a 0.1 m
-// block starts 0.05 m above the floor moving down at 2 m/s (the report's drop).
-std::string closedBox(bool still) {
-  return std::string(R"(
-[scene]
-name = "closed_box"
-end_time = 1.0
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.11]
-[solver]
-particle_spacing = 0.01
-[[phase]]
-name = "water"
-rest_density = 1000.0
-stiffness = 1000.0
-viscosity = 0.1
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.1]
-[[fluid]]
-phase = "water"
-)") + (still ? "min = [0.0, 0.0, 0.0]\nmax = [0.1, 0.1, 0.1]\n"
-             : "min = [0.0, 0.05, 0.0]\nmax = [0.1, 0.15, 0.1]\nvelocity = [0.0, -2.0, 0.0]\n") +
-         "[effects.gravity]\n[effects.pressure]\n[effects.viscosity]\n";
-}
-
-// Kinetic + gravitational (above the floor, y = 0) + elastic energy. The pressure force is
-// -grad of sum_i m_i k (ln(rho_i/rho0) + rho0/rho_i - 1) (clamped: only where rho > rho0) times
-// the lattice normalisation 1/M of the kernel gradient, so that is the elastic energy it stores.
-double closedBoxEnergy(const mf::Simulation& sim) {
-  const auto& ps = sim.particles();
-  const double spacing = sim.scene().solver.particleSpacing;
-  const double M = mf::latticeGradientMoment(mf::SphKernels(sim.kernels().h, sim.kernels().choice, spacing), spacing);
-  double e = 0;
-  for (size_t i = 0; i < ps.size(); ++i) {
-    const double m = ps.mass[i], r = ps.density[i] / ps.restDensity[i];
-    e += m * (0.5 * mf::lengthSquared(ps.velocity[i]) + 9.81 * ps.position[i].y);
-    if (r > 1) e += m * ps.stiffness[i] * (std::log(r) + 1 / r - 1) / M;
-  }
-  return e;
-}
-
 struct BoxRun {
   double growth = 0;  // max over steps of (E - E0) / E0
   double vmax = 0;    // largest speed at the end
@@ -124,10 +82,10 @@ struct BoxRun {
 };
 
 BoxRun runClosedBox(bool still, double endTime, const std::string& kernel, double cfl = 0.4) {
-  mf::Simulation sim(mf::parseScene(closedBox(still), "closed_box", {"solver.kernel=" + kernel, "solver.cfl=" + std::to_string(cfl)}));
-  const double e0 = closedBoxEnergy(sim);
+  mf::Simulation sim(mf::parseScene(mf::closedBoxScene(still), "closed_box", {"solver.kernel=" + kernel, "solver.cfl=" + std::to_string(cfl)}));
+  const double e0 = mf::mechanicalEnergy(sim);
   BoxRun r;
-  sim.advanceTo(endTime, [&](const mf::Simulation& s) { r.growth = std::max(r.growth, closedBoxEnergy(s) / e0 - 1); });
+  sim.advanceTo(endTime, [&](const mf::Simulation& s) { r.growth = std::max(r.growth, mf::mechanicalEnergy(s) / e0 - 1); });
   const auto& ps = sim.particles();
   std::vector<double> nearest(ps.size(), 1e9);
   for (size_t i = 0; i < ps.size(); ++i) {

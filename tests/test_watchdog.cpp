@@ -4,39 +4,16 @@
 
 #include <cmath>
 #include <limits>
+#include <string>
 
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
 namespace {
 
-const char* kDrop = R"(
-[scene]
-name = "drop"
-end_time = 0.2
-frame_rate = 10
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.11]
-[solver]
-particle_spacing = 0.01
-[[phase]]
-name = "water"
-rest_density = 1000.0
-stiffness = 1000.0
-viscosity = 0.1
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.1]
-[[fluid]]
-phase = "water"
-min = [0.0, 0.05, 0.0]
-max = [0.1, 0.15, 0.1]
-velocity = [0.0, -2.0, 0.0]
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
-)";
+// The drop of sim/diagnostics.h: a block of water thrown at the floor of a closed box.
+const std::string kDrop = mf::closedBoxScene(false);
 
 bool allFinite(const mf::ParticleSet& ps) {
   for (size_t i = 0; i < ps.size(); ++i)
