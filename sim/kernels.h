@@ -16,7 +16,9 @@
 // Each W is normalised so that the integral of W over its support is 1 (tested).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "vec3.h"
 
@@ -122,6 +124,52 @@ struct SphKernels {
     if (r <= 0 || r >= h) return 0;
     const Real q = r / h;
     return 15.0 / (2.0 * kPi * h * h2) * (-0.5 * q * q * q + q * q + 0.5 / q - 1.0);
+  }
+};
+
+/// The part of a kernel's support that lies beyond a plane free surface, as a function of what
+/// a particle can see of it: zeta = |sum_j V_j (x_j - x_i) W_ij| / (h sum_j V_j W_ij) over the
+/// neighbours it has (self included). For a half-space of fluid whose surface lies a distance d
+/// from the particle, zeta = M(d) / (1 - g(d)) with g(d) = int_{z > d} W and M(d) =
+/// int_{z > d} (z/h) W: both scale with the density, so zeta measures the geometry only, and
+/// g(d) is the missing fraction of a full neighbourhood. Tabulated for 0 <= d <= h (a particle
+/// at or inside the surface): zeta = 0.208 at d = 0, where g = 1/2, its cap.
+struct HalfSpaceMissing {
+  std::vector<Real> zeta, missing;  // zeta decreasing, from d = 0 to d = h
+  Real scale = 1;                   // lattice calibration (Simulation): the answer is scale * g
+
+  HalfSpaceMissing() = default;
+  explicit HalfSpaceMissing(const SphKernels& K, int samples = 512) {
+    // A(z) = 2 pi int_z^h W(r) r dr (the kernel integrated over the plane at height z), then
+    // g(d) = int_d^h A and M(d) = int_d^h (z/h) A, all by the trapezoid rule on a fine grid.
+    const int n = 8 * samples;
+    const Real dz = K.h / n;
+    std::vector<Real> A(n + 1, 0), g(n + 1, 0), M(n + 1, 0);
+    for (int k = n - 1; k >= 0; --k) {
+      const Real r0 = k * dz, r1 = r0 + dz;
+      A[k] = A[k + 1] + kPi * dz * (K.density(r0 * r0) * r0 + (k + 1 < n ? K.density(r1 * r1) * r1 : 0));
+    }
+    for (int k = n - 1; k >= 0; --k) {
+      g[k] = g[k + 1] + 0.5 * dz * (A[k] + A[k + 1]);
+      M[k] = M[k + 1] + 0.5 * dz * (k * dz * A[k] + (k + 1) * dz * A[k + 1]) / K.h;
+    }
+    const Real half = g[0];  // 1/2 up to the quadrature error; used to normalise
+    for (int k = 0; k <= n; k += 8) {
+      const Real gk = 0.5 * g[k] / half;
+      zeta.push_back(0.5 * M[k] / half / (1 - gk));
+      missing.push_back(gk);
+    }
+  }
+  /// The missing fraction for a measured zeta (linear in the table; 1/2 above its top).
+  Real operator()(Real z) const { return scale * unscaled(z); }
+  Real unscaled(Real z) const {
+    if (z >= zeta.front()) return missing.front();
+    if (z <= 0) return 0;
+    // first entry with zeta[k] <= z (zeta decreases with k)
+    const size_t k = size_t(std::lower_bound(zeta.begin(), zeta.end(), z, [](Real a, Real b) { return a > b; }) -
+                            zeta.begin());
+    const Real t = (z - zeta[k]) / (zeta[k - 1] - zeta[k]);
+    return missing[k] + t * (missing[k - 1] - missing[k]);
   }
 };
 

@@ -76,6 +76,10 @@ struct SolverSettings {
   DensityFormulation density = DensityFormulation::Mass;
   KernelChoice kernel = KernelChoice::WendlandC2;  // density and pressure kernels (kernels.h)
   bool clampNegativePressure = true;  // free surfaces: no tensile pressure
+  // Free-surface density completion: a particle's density sum gets rho0 times the part of its
+  // kernel that a plane free surface would cut off (HalfSpaceMissing, kernels.h), so that the
+  // surface layer is at rest density on the lattice and resists packing (see simulation.cpp).
+  bool freeSurfaceCompletion = false;
   Real cfl = 0.4;                   // dt <= cfl h / (c_max + v_max)
   Real forceFactor = 0.25;          // dt <= forceFactor sqrt(h / a_max)
   Real maxDt = 1e-3, minDt = 1e-8;  // s

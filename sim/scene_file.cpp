@@ -281,6 +281,7 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.kernel = s.text("kernel", "wendland", {"wendland", "muller2003"}) == "muller2003" ? KernelChoice::Muller2003
                                                                                      : KernelChoice::WendlandC2;
   o.clampNegativePressure = s.boolean("clamp_negative_pressure", o.clampNegativePressure);
+  o.freeSurfaceCompletion = s.boolean("free_surface_completion", o.freeSurfaceCompletion);
   o.cfl = s.number("cfl", o.cfl, 0, 10, "", true);
   o.forceFactor = s.number("force_factor", o.forceFactor, 0, 10, "", true);
   o.maxDt = s.number("max_dt", o.maxDt, 1e-9, 1, "s", true);

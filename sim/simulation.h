@@ -101,6 +101,7 @@ class Simulation {
 
   Scene scene_;
   SphKernels kernels_;
+  HalfSpaceMissing surfaceMissing_;  // solver.free_surface_completion only
   Vec3 gridOrigin_;
   Real wallOffset_ = 0;
   ParticleSet ps_;

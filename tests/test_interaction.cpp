@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 #include <openvdb/tools/LevelSetMeasure.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -149,11 +151,12 @@ Shape surfacedShape(const Simulation& sim) {
   return {std::cbrt(kPi) * std::pow(6 * volume, 2.0 / 3.0) / area, volume};
 }
 
-TEST(SurfaceTension, CubeBecomesSphere) {
-  const std::string text = std::string(kHeader) + R"(
+std::string cubeScene(bool completion) {
+  return std::string(kHeader) + fmt::format(R"(
 [solver]
 particle_spacing = 0.01
 max_dt = 0.005
+free_surface_completion = {}
 [[phase]]
 name = "water"
 rest_density = 1000.0
@@ -167,16 +170,86 @@ max = [0.06, 0.06, 0.06]
 [effects.pressure]
 [effects.viscosity]
 [effects.surface_tension]
-)";
-  Simulation sim(parseScene(text, "cube.toml"));
+)", completion);
+}
+
+TEST(SurfaceTension, FreeSurfaceCompletionIsExactOnTheLatticeFace) {
+  // The half-space table: the plane through the particle cuts off half the kernel.
+  const SphKernels K(0.02, KernelChoice::WendlandC2, 0.01);
+  const HalfSpaceMissing table(K);
+  EXPECT_NEAR(table.unscaled(table.zeta.front()), 0.5, 1e-12);
+  EXPECT_EQ(table.unscaled(0.0), 0.0);
+  // On the seeded cube, face particles (away from edges) read rho0 exactly, interior ones are
+  // untouched, and nothing reads above rho0 (edges and corners are underestimated), so the
+  // lattice starts without pressure. Without the option the outer layer reads 0.87 rho0.
+  Simulation sim(parseScene(cubeScene(true), "cube.toml"));
+  const ParticleSet& ps = sim.particles();
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Vec3 x = ps.position[i];
+    int outer = 0;
+    for (int a = 0; a < 3; ++a) outer += std::fabs(x[a]) > 0.05 ? 1 : 0;
+    if (outer <= 1) {
+      EXPECT_NEAR(ps.density[i], 1000.0, 1e-9) << x.x << " " << x.y << " " << x.z;
+    }
+    EXPECT_LE(ps.density[i], 1000.0 + 1e-9);
+  }
+}
+
+TEST(SurfaceTension, CubeBecomesSphere) {
+  // The volume is judged against the liquid's own, N s^3 = mass / rho0 (the cube is exactly
+  // 12 spacings a side), not against the surfaced cube, whose edges the surfacing rounds off
+  // (measured 0.001631 m^3, 5.6 % short). The measure itself is checked on a lattice sphere:
+  // its level set holds 0.9972 N s^3 (R = 7.45 spacings, 1736 particles); bound 0.5 %.
+  {
+    Simulation lattice(parseScene(std::string(kHeader) + R"(
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 100.0
+[[fluid]]
+phase = "water"
+shape = "sphere"
+centre = [0.0, 0.0, 0.0]
+radius = 0.0745
+)", "lattice_sphere.toml"));
+    const Real nominal = Real(lattice.particles().size()) * 1e-6;
+    EXPECT_NEAR(surfacedShape(lattice).volume / nominal, 1.0, 0.005);
+  }
+  Simulation sim(parseScene(cubeScene(true), "cube.toml"));
+  const Real nominal = Real(sim.particles().size()) * 1e-6;  // 0.001728 m^3
   const Shape cube = surfacedShape(sim);
-  sim.advanceTo(1.0);
+  sim.advanceTo(0.5);
+  // Mean pressure inside r < 3 cm, averaged over the steps of the second half second (the drop
+  // still rings, so one instant says little).
+  Real pressure = 0;
+  int samples = 0;
+  sim.advanceTo(1.0, [&](const Simulation& s) {
+    const ParticleSet& q = s.particles();
+    Vec3 c;
+    for (const Vec3& x : q.position) c += x;
+    c = c * (1.0 / Real(q.size()));
+    Real sum = 0;
+    int count = 0;
+    for (size_t i = 0; i < q.size(); ++i)
+      if (length(q.position[i] - c) < 0.03) sum += q.pressure[i], ++count;
+    pressure += sum / count;
+    ++samples;
+  });
+  pressure /= samples;
   const Shape ball = surfacedShape(sim);
+  fmt::print("cube to sphere: sphericity {:.4f} -> {:.4f}, volume {:.6f} m^3 ({:+.2f} % of N s^3), pressure {:.2f} Pa\n",
+             cube.sphericity, ball.sphericity, ball.volume, 100 * (ball.volume / nominal - 1), pressure);
   // The issue's bound 0.95. The surfaced 12^3 cube already measures 0.93 (its edges are
-  // rounded by a particle radius), so the test also demands a clear rise. Measured 1.0006
-  // (area and volume of a voxelised level set carry about 0.1 % error, hence above 1).
+  // rounded by a particle radius), so the test also demands a clear rise. Measured 0.9943 at
+  // 1 s (the drop still rings: 0.985-1.002 between 0.5 and 2 s).
   EXPECT_GT(ball.sphericity, 0.95);
   EXPECT_GT(ball.sphericity, cube.sphericity + 0.04);
+  // The issue's bound: the volume changes by less than 2 %. Measured -0.04 % at 1 s; between
+  // -1.0 % and +0.4 % from 0.5 to 2 s, and -0.6 % to -1.0 % settled (2 s) also for
+  // sigma = 0.3 N/m or k = 1000. That needs solver.free_surface_completion: see the plain run.
+  EXPECT_LT(std::fabs(ball.volume / nominal - 1), 0.02);
   const ParticleSet& ps = sim.particles();
   Vec3 centre;
   for (const Vec3& x : ps.position) centre += x;
@@ -190,17 +263,27 @@ max = [0.06, 0.06, 0.06]
     if (r < 0.03) interior += ps.density[i], ++n;
   }
   interior /= n;
-  // Volume of the liquid: the interior density (Laplace pressure 2 sigma/R = 28 Pa over
-  // k rho0 = 1e5 Pa predicts +0.03 %) must change by less than the issue's 2 %.
-  EXPECT_LT(std::fabs(interior / 1000.0 - 1), 0.02);
+  // Interior density: the Laplace pressure over k rho0 = 1e5 Pa predicts +0.03 %; bound 0.5 %.
+  EXPECT_LT(std::fabs(interior / 1000.0 - 1), 0.005);
+  // The interior pressure is Laplace's 2 sigma / R = 26.9 Pa (R = 7.44 cm) less what the
+  // curvature estimate loses at 7 spacings' radius: measured 21.4 Pa (20-21 Pa settled at
+  // 1-2 s). Bound 35 %, to catch a tension force that is gone or doubled.
+  const Real laplace = 2 * 1.0 / std::cbrt(3 * nominal / (4 * kPi));
+  EXPECT_NEAR(pressure, laplace, 0.35 * laplace);
   // No particle is flung off (eq. 4 as written does that: measured 0.73 m after 2 s).
   EXPECT_LT(farthest, 0.09);
   EXPECT_LT(length(centre), 0.01);
-  // Known limitation, measured, not hidden: the free-surface layer has deficient density and
-  // zero (clamped) pressure, so it packs inward under any inward force until its density sum
-  // reaches rho0: the level-set volume ends 10 % below the start (0.001470 vs 0.001637 m^3),
-  // whatever sigma or k. The bound keeps that from growing unnoticed.
-  EXPECT_GT(ball.volume, 0.85 * cube.volume);
+
+  // Without the completion the free-surface layer's density sum is 13-27 % short on the
+  // lattice (one missing layer of neighbours), its pressure clamped at zero, so it packs under
+  // the tension's inward pull until the sum reaches rho0: the level set ends 8.8 % below
+  // N s^3 (0.001576 m^3), whatever sigma or k, while the interior stays at rho0 and its
+  // particles at the lattice's radii (measured). Kept as a check that the diagnosis holds.
+  Simulation plain(parseScene(cubeScene(false), "cube_plain.toml"));
+  plain.advanceTo(1.0);
+  const Real plainVolume = surfacedShape(plain).volume;
+  fmt::print("without free_surface_completion: volume {:.6f} m^3 ({:+.2f} %)\n", plainVolume, 100 * (plainVolume / nominal - 1));
+  EXPECT_LT(plainVolume, 0.95 * nominal);
 }
 
 // Fraction of particles with a neighbour of the other fluid within 1.2 spacings (the six
@@ -315,6 +398,85 @@ sigma = 0.1
               std::string::npos)
         << what;
   }
+}
+
+}  // namespace
+
+namespace {
+
+// Oil and water after settling. Bodies: oil particles linked closer than 1.5 spacings (as the
+// surfacing links a body), the oil layer the largest. An oil particle is stranded when water
+// lies above it (a water particle higher up within one spacing of its vertical) and it is not
+// part of the oil layer; "isolated" when, in addition, no oil particle is within 2 spacings.
+struct OilAndWater {
+  double oilHeight = 0, waterHeight = 0;  // centres of mass, m
+  int stranded = 0, isolated = 0, bodies = 0, layer = 0;
+};
+OilAndWater oilAndWater(const Simulation& sim, int oil, int water) {
+  const ParticleSet& ps = sim.particles();
+  const size_t n = ps.size();
+  const Real s = sim.particleSpacing();
+  OilAndWater r;
+  std::vector<uint32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  const NeighborLists& nl = sim.fluidNeighbors();
+  int oils = 0, waters = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (ps.phase[i] == water) r.waterHeight += ps.position[i].y, ++waters;
+    if (ps.phase[i] != oil) continue;
+    r.oilHeight += ps.position[i].y, ++oils;
+    for (uint64_t k = nl.begin(i); k < nl.end(i); ++k) {
+      const uint32_t j = nl.indices[k];
+      if (ps.phase[j] == oil && length(ps.position[i] - ps.position[j]) < 1.5 * s) parent[find(uint32_t(i))] = find(j);
+    }
+  }
+  r.oilHeight /= oils;
+  r.waterHeight /= waters;
+  std::vector<int> size(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    if (ps.phase[i] == oil) ++size[find(uint32_t(i))], r.bodies += find(uint32_t(i)) == i;
+  const uint32_t layer = uint32_t(std::max_element(size.begin(), size.end()) - size.begin());
+  r.layer = size[layer];
+  for (size_t i = 0; i < n; ++i) {
+    if (ps.phase[i] != oil || find(uint32_t(i)) == layer) continue;
+    bool waterAbove = false, oilNear = false;
+    for (size_t j = 0; j < n; ++j) {
+      const Vec3 d = ps.position[j] - ps.position[i];
+      waterAbove |= ps.phase[j] == water && d.y > 0 && d.x * d.x + d.z * d.z < s * s;
+      oilNear |= j != i && ps.phase[j] == oil && lengthSquared(d) < 4 * s * s;
+    }
+    r.stranded += waterAbove;
+    r.isolated += waterAbove && !oilNear;
+  }
+  return r;
+}
+
+// The issue: oil and water shaken together separate into two layers, oil on top, and no oil
+// particle is left stranded inside the water after settling. DISABLED: the shipped scene does
+// not separate. Measured at 1 cm spacing (3000 particles, the scene's 8 s; 150 s of wall time
+// on the shared 2-core machine): the oil's centre rises only 0.016 m above the water's of the
+// 0.075 m two layers would give (0.0815 against 0.0655 m; 0.006 at 1.5 s, 0.014 at 4 s), and
+// 11 oil bodies remain (the layer 1504 particles; 11 stranded, 2 isolated). With
+// sigma = 1.5 N/m the gap stalls at 0.042 m (4.5 to 6.5 s, 3-4 oil bodies); with
+// mu = 0.1 Pa s and sigma = 0.3 N/m it is 0.020 m at 4 s. Enable when configs/water_oil.toml
+// separates; at 1 cm it must also be made to run within about 60 s (e.g. a tank half as deep
+// in z).
+TEST(WaterOilScene, DISABLED_OilSettlesOnTopAndNoneIsStranded) {
+  const Scene scene = loadScene("water_oil", {"solver.particle_spacing=0.01"});
+  Simulation sim(scene);
+  const int oil = scene.phaseIndex("oil"), water = scene.phaseIndex("water");
+  sim.advanceTo(scene.endTime);
+  const OilAndWater r = oilAndWater(sim, oil, water);
+  fmt::print("water_oil at {} s: oil centre {:.4f} m, water centre {:.4f} m; {} oil bodies, layer {}, {} stranded, {} isolated\n",
+             sim.time(), r.oilHeight, r.waterHeight, r.bodies, r.layer, r.stranded, r.isolated);
+  // Two layers of equal volume 0.15 m deep in all: centres 0.075 m apart; 90 % of that.
+  EXPECT_GT(r.oilHeight - r.waterHeight, 0.9 * 0.075);
+  EXPECT_EQ(r.stranded, 0);
+  EXPECT_EQ(r.isolated, 0);
 }
 
 }  // namespace
