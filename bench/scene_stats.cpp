@@ -2,17 +2,26 @@
 // test suite:
 //   scene_stats frames DIR                      particles per phase (count, mean height) in each
 //                                               DIR/particles/particles.NNNN.vdb, and the maxima
-//   scene_stats run SCENE [END] [key=value...]  runs a scene, printing every 0.25 s each effect's
-//                                               statistics, particles and mean temperature per
-//                                               phase, the fastest particle and any outside the solids
+//   scene_stats run SCENE [END] [every=DT] [slice] [key=value...]
+//                                               runs a scene, printing every DT s (0.25) each
+//                                               effect's statistics; per phase the particles, mean
+//                                               and highest temperature, mean and highest height;
+//                                               the total mass; the fastest particle now (vmax) and
+//                                               over the interval, every step (vmax_step, with its
+//                                               phase); and any particles outside the solids.
+//                                               slice: an x-y slice through z = 0 (0..0.1 m high,
+//                                               |x| < 5.5 cm), one character per spacing
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -53,41 +62,98 @@ void frameStats(const char* dir) {
   fmt::print("\n");
 }
 
-void runScene(const char* name, Real endTime, const std::vector<std::string>& sets) {
+// An x-y slice one spacing thick through z = 0, one character per spacing: the phase's first
+// letter (capital where it holds more than one particle), '.' for none.
+void printSlice(const Simulation& sim, Real ylo, Real yhi, Real half) {
+  const ParticleSet& ps = sim.particles();
+  const Real s = sim.particleSpacing();
+  const int nx = int(std::ceil(2 * half / s)), ny = int(std::ceil((yhi - ylo) / s));
+  std::vector<int> count(size_t(nx * ny), 0), phase(size_t(nx * ny), -1);
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Vec3 x = ps.position[i];
+    if (std::abs(x.z) > 0.5 * s) continue;
+    const int cx = int(std::floor((x.x + half) / s)), cy = int(std::floor((x.y - ylo) / s));
+    if (cx < 0 || cy < 0 || cx >= nx || cy >= ny) continue;
+    const size_t c = size_t(cy * nx + cx);
+    // vapour-like phases (not the first) win over the liquid in a shared cell
+    if (phase[c] < 0 || int(ps.phase[i]) > phase[c]) phase[c] = ps.phase[i];
+    ++count[c];
+  }
+  for (int cy = ny - 1; cy >= 0; --cy) {
+    std::string row = fmt::format("  {:+.3f} |", ylo + (cy + 0.5) * s);
+    for (int cx = 0; cx < nx; ++cx) {
+      const size_t c = size_t(cy * nx + cx);
+      if (phase[c] < 0) row += '.';
+      else {
+        const char ch = sim.scene().phases[size_t(phase[c])].name[0];
+        row += count[c] > 1 ? char(std::toupper(ch)) : ch;
+      }
+    }
+    fmt::print("{}|\n", row);
+  }
+}
+
+void runScene(const char* name, Real endTime, Real every, const std::vector<std::string>& sets, bool slice) {
   Simulation sim(loadScene(name, sets));
   const Real end = endTime > 0 ? endTime : sim.scene().endTime;
-  for (Real t = 0.25; t <= end + 1e-9; t += 0.25) {
-    sim.advanceTo(t);
+  Real vmaxStep = 0;
+  int vmaxPhase = -1;
+  auto track = [&](const Simulation& s) {
+    for (size_t i = 0; i < s.particles().size(); ++i) {
+      const Real v = length(s.particles().velocity[i]);
+      if (v > vmaxStep) {
+        vmaxStep = v;
+        vmaxPhase = s.particles().phase[i];
+      }
+    }
+  };
+  for (int k = 1; Real(k) * every <= end + 1e-9; ++k) {
+    const Real t = Real(k) * every;
+    vmaxStep = 0;
+    vmaxPhase = -1;
+    sim.advanceTo(t, track);
+    const ParticleSet& ps = sim.particles();
+    const bool hasT = ps.has(Attribute::Temperature);
     std::string line = fmt::format("t {:.2f} s, {} steps:", t, sim.stepCount());
+    Real mass = 0;
+    for (size_t i = 0; i < ps.size(); ++i) mass += ps.mass[i];
     for (size_t p = 0; p < sim.scene().phases.size(); ++p) {
       size_t n = 0;
-      Real T = 0, y = 0;
-      for (size_t i = 0; i < sim.particles().size(); ++i)
-        if (sim.particles().phase[i] == p) {
+      Real T = 0, y = 0, Tmax = -1e9, ymax = -1e9;
+      for (size_t i = 0; i < ps.size(); ++i)
+        if (ps.phase[i] == p) {
           ++n;
-          y += sim.particles().position[i].y;
-          if (sim.particles().has(Attribute::Temperature)) T += sim.particles().temperature[i];
+          y += ps.position[i].y;
+          ymax = std::max(ymax, ps.position[i].y);
+          if (hasT) {
+            T += ps.temperature[i];
+            Tmax = std::max(Tmax, ps.temperature[i]);
+          }
         }
-      line += fmt::format(" {} {} (T {:.1f}, y {:.4f})", sim.scene().phases[p].name, n, n ? T / Real(n) : 0.0, n ? y / Real(n) : 0.0);
+      line += fmt::format(" {} {} (T {:.2f} max {:.1f}, y {:.4f} max {:.4f})", sim.scene().phases[p].name, n, n ? T / Real(n) : 0.0,
+                          n ? Tmax : 0.0, n ? y / Real(n) : 0.0, n ? ymax : 0.0);
     }
+    line += fmt::format(" mass={:.6g}", mass);
     for (const auto& e : sim.effects())
-      for (const auto& [k, v] : e->statistics()) line += fmt::format(" {}.{}={:g}", e->name(), k, v);
+      for (const auto& [k2, v] : e->statistics()) line += fmt::format(" {}.{}={:g}", e->name(), k2, v);
     Real vmax = 0, ymax = -1e9;
-    for (size_t i = 0; i < sim.particles().size(); ++i) {
-      vmax = std::max(vmax, length(sim.particles().velocity[i]));
-      ymax = std::max(ymax, sim.particles().position[i].y);
+    for (size_t i = 0; i < ps.size(); ++i) {
+      vmax = std::max(vmax, length(ps.velocity[i]));
+      ymax = std::max(ymax, ps.position[i].y);
     }
-    line += fmt::format(" vmax={:.2f} ymax={:.3f}", vmax, ymax);
+    line += fmt::format(" vmax={:.2f} vmax_step={:.2f} ({}) ymax={:.3f}", vmax, vmaxStep,
+                        vmaxPhase >= 0 ? sim.scene().phases[size_t(vmaxPhase)].name : "-", ymax);
     size_t outside = 0, aboveRimOutside = 0;
-    for (size_t i = 0; i < sim.particles().size(); ++i) {
+    for (size_t i = 0; i < ps.size(); ++i) {
       bool in = sim.scene().solids.empty();
-      for (const SolidSpec& so : sim.scene().solids) in |= insideFluidRegion(so, sim.particles().position[i], 0.5 * sim.particleSpacing());
+      for (const SolidSpec& so : sim.scene().solids) in |= insideFluidRegion(so, ps.position[i], 0.5 * sim.particleSpacing());
       outside += !in;
-      aboveRimOutside += !in && sim.particles().position[i].y > 0.1;
+      aboveRimOutside += !in && ps.position[i].y > 0.1;
     }
     line += fmt::format(" outside_solids={} (of which above 0.1 m: {}) wall_clamps={} out_of_domain={}", outside, aboveRimOutside,
                         sim.counters().wallClamps, sim.counters().removedOutOfDomain);
     fmt::print("{}\n", line);
+    if (slice) printSlice(sim, 0.0, 0.1, 0.055);
     std::fflush(stdout);
   }
 }
@@ -104,14 +170,22 @@ int main(int argc, char** argv) {
       Real end = 0;
       int k = 3;
       if (argc > 3 && std::strchr(argv[3], '=') == nullptr) end = std::atof(argv[k++]);
+      Real every = 0.25;
+      if (k < argc && std::strncmp(argv[k], "every=", 6) == 0) every = std::atof(argv[k++] + 6);
+      if (!(every > 0)) throw std::runtime_error("every= must be positive");
+      bool slice = false;
+      if (k < argc && std::strcmp(argv[k], "slice") == 0) {
+        slice = true;
+        ++k;
+      }
       std::vector<std::string> sets(argv + k, argv + argc);
-      runScene(argv[2], end, sets);
+      runScene(argv[2], end, every, sets, slice);
       return 0;
     }
   } catch (const std::exception& e) {
     fmt::print(stderr, "scene_stats: {}\n", e.what());
     return 1;
   }
-  fmt::print(stderr, "usage: scene_stats frames DIR | scene_stats run SCENE [END] [key=value...]\n");
+  fmt::print(stderr, "usage: scene_stats frames DIR | scene_stats run SCENE [END] [every=DT] [slice] [key=value...]\n");
   return 2;
 }

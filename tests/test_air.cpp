@@ -561,4 +561,106 @@ TEST(Boiling, BitIdenticalAcrossThreadsAndAfterResume) {
   fs::remove_all(dir);
 }
 
+
+TEST(Boiling, VapourOnlyAtTheSiteAboveBoilingWhileTheWaterWarms) {
+  // The boiling scene from 0 deg C at a 1 cm spacing (about 650 water particles) with one
+  // cavitation site at a known point on the bottom: every particle that turns to vapour was
+  // above the boiling temperature (saturated vapour starts at exactly 100 deg C, min(T, 100)),
+  // and either lies within site_radius of the site or joins vapour that was there the step
+  // before (a growing bubble) away from the glass (the heated layer, wall_distance); the first
+  // vapour is at the site. The water's
+  // mean temperature, sampled every 0.1 s, never falls while the flames burn.
+  const Vec3 site(0.0, 0.005, 0.0);
+  const Real end = 3.0;
+  const Scene scene = loadScene("boiling", {"solver.particle_spacing=0.01", fmt::format("scene.end_time={}", end),
+                                            "effects.phase_change.sites=1", "effects.phase_change.site_min=[0.0, 0.005, 0.0]",
+                                            "effects.phase_change.site_max=[0.0, 0.005, 0.0]",
+                                            // the heated layer at this spacing: one layer, 1.1 cm as in the scene
+                                            "effects.phase_change.wall_distance=1.1"});
+  Simulation sim(scene);
+  const int water = scene.phaseIndex("water"), vapour = scene.phaseIndex("vapour");
+  const Real s = sim.particleSpacing(), h = sim.kernels().h;
+  Real siteRadius = 0, wallDistance = 0, boiling = 0;
+  for (const EffectSpec& e : scene.effects)
+    if (e.name == "phase_change") {
+      siteRadius = e.number("site_radius") * s;
+      wallDistance = e.number("wall_distance") * s;
+      boiling = e.number("boiling_temperature");
+    }
+  ASSERT_GT(siteRadius, 0);
+  const SolidSpec& glass = scene.solids.at(0);
+  std::map<uint64_t, uint16_t> before;  // id -> phase at the end of the previous step
+  std::vector<Vec3> vapourBefore;
+  for (size_t i = 0; i < sim.particles().size(); ++i) before[sim.particles().id[i]] = sim.particles().phase[i];
+  uint64_t born = 0, atSite = 0, grown = 0, misplaced = 0, notHot = 0;
+  Real firstVapour = -1, firstDistance = -1;
+  auto waterMean = [&](const Simulation& sm) {
+    Real sum = 0;
+    size_t n = 0;
+    for (size_t i = 0; i < sm.particles().size(); ++i)
+      if (sm.particles().phase[i] == water) {
+        sum += sm.particles().temperature[i];
+        ++n;
+      }
+    return sum / Real(n);
+  };
+  std::vector<Real> means{waterMean(sim)};
+  std::vector<double> flames{0};
+  Real lastTime = 0;
+  for (int k = 1; Real(k) * 0.1 <= end + 1e-9; ++k) {
+    sim.advanceTo(Real(k) * 0.1, [&](const Simulation& sm) {
+      const ParticleSet& ps = sm.particles();
+      // The neighbour lists were built at the step's start; two particles have come closer or
+      // gone apart by at most 2 vmax dt since.
+      Real vmax = 0;
+      for (const Vec3& v : ps.velocity) vmax = std::max(vmax, length(v));
+      const Real reach = h + 2 * vmax * (sm.time() - lastTime);
+      lastTime = sm.time();
+      std::vector<Vec3> vapourNow;
+      for (size_t i = 0; i < ps.size(); ++i) {
+        if (ps.phase[i] != vapour) continue;
+        vapourNow.push_back(ps.position[i]);
+        const auto it = before.find(ps.id[i]);
+        if (it == before.end() || it->second != water) continue;
+        ++born;
+        const Vec3 x = ps.position[i];
+        notHot += ps.temperature[i] != boiling;
+        const bool nearSite = length(x - site) <= siteRadius * (1 + 1e-9);
+        bool nextToVapour = false;
+        for (const Vec3& v : vapourBefore) nextToVapour |= length(v - x) < reach;
+        const bool onGlass = !insideFluidRegion(glass, x, -wallDistance);
+        if (firstVapour < 0) {
+          firstVapour = sm.time();
+          firstDistance = length(x - site);
+        }
+        atSite += nearSite;
+        grown += !nearSite && nextToVapour && !onGlass;
+        misplaced += !nearSite && !(nextToVapour && !onGlass);
+      }
+      before.clear();
+      for (size_t i = 0; i < ps.size(); ++i) before[ps.id[i]] = ps.phase[i];
+      vapourBefore = std::move(vapourNow);
+    });
+    means.push_back(waterMean(sim));
+    flames.push_back(statistic(sim, "flame_heating", "flames_under_glass"));
+  }
+  std::string path;
+  for (size_t k = 0; k < means.size(); k += 5) path += fmt::format(" {:.1f}", means[k]);
+  fmt::print("boiling (1 cm, one site): first vapour at t = {:.3f} s, {:.4f} m from the site; {} evaporations: {} at the site, "
+             "{} growing a bubble, {} elsewhere, {} not from above {} C; condensed {}, left {}; water mean T every 0.5 s:{}\n",
+             firstVapour, firstDistance, born, atSite, grown, misplaced, notHot, boiling,
+             statistic(sim, "phase_change", "condensed"), statistic(sim, "phase_change", "left_at_surface"), path);
+  ASSERT_GT(firstVapour, 0) << "no vapour within " << end << " s";
+  EXPECT_LE(firstDistance, siteRadius * (1 + 1e-9));
+  EXPECT_GT(atSite, 0u);
+  EXPECT_EQ(misplaced, 0u);
+  EXPECT_EQ(notHot, 0u);
+  EXPECT_EQ(double(born), statistic(sim, "phase_change", "evaporated"));
+  EXPECT_EQ(double(atSite), statistic(sim, "phase_change", "evaporated_at_sites"));
+  for (size_t k = 1; k < means.size(); ++k)
+    if (flames[k] > 0) {
+      EXPECT_GE(means[k], means[k - 1]) << "t = " << 0.1 * double(k) << " s";
+    }
+}
+
 }  // namespace
