@@ -41,8 +41,9 @@ struct SimulationCounters {
 struct StageTimes {
   double neighborSearch = 0;  // grid build + neighbour lists (includes re-sorts and retries)
   double density = 0;         // density, volume and state equation
-  std::vector<double> effect; // per enabled effect, in effects() order
+  std::vector<double> effect; // per enabled effect, in effects() order: forces, advance, edits
   double integrate = 0;       // dt choice, integration, wall clamp, watchdog checks
+  double edits = 0;           // applying births and removals: compaction, appends, new search
 };
 
 class Simulation {
