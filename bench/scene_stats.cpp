@@ -130,8 +130,10 @@ void runScene(const char* name, Real endTime, Real every, const std::vector<std:
             Tmax = std::max(Tmax, ps.temperature[i]);
           }
         }
-      line += fmt::format(" {} {} (T {:.2f} max {:.1f}, y {:.4f} max {:.4f})", sim.scene().phases[p].name, n, n ? T / Real(n) : 0.0,
-                          n ? Tmax : 0.0, n ? y / Real(n) : 0.0, n ? ymax : 0.0);
+      const std::string temperature =
+          hasT && n ? fmt::format("T {:.2f} max {:.1f}, ", T / Real(n), Tmax) : std::string();  // none without temperatures
+      line += fmt::format(" {} {} ({}y {:.4f} max {:.4f})", sim.scene().phases[p].name, n, temperature,
+                          n ? y / Real(n) : 0.0, n ? ymax : 0.0);
     }
     line += fmt::format(" mass={:.6g}", mass);
     for (const auto& e : sim.effects())
