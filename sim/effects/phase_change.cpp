@@ -19,8 +19,17 @@
 //  - Condensation. Vapour colder than boiling_temperature - condensation_margin becomes liquid
 //    again: phase, rest density, viscosity, stiffness and colours of the liquid (at once: an
 //    under-dense particle has zero pressure, nothing to refuse).
+//    With wall_distance > 0, liquid that close to a container evaporates only at the sites
+//    (nucleate boiling; measured without it: a vapour film of 420 particles along the glass
+//    lifted all the water 3.6 cm in 0.5 s).
+//  - Saturation (saturated = 1). Vapour, and liquid off the glass, are held at the boiling
+//    temperature: heat beyond it is latent heat. Without it, growth into water that diffusion had
+//    pushed past boiling made vapour at no energy cost (measured: 737 vapour particles threw 167
+//    water particles out of the domain at 4.25 s).
 //  - Leaving. Vapour at the top of the particle set (OpenSurfaceRule of colour_fields.h, the
-//    rule trapped air uses) is removed: the bubble has burst.
+//    rule trapped air uses) is removed: the bubble has burst. With leave_without_liquid = 1,
+//    vapour with no liquid within h has left too (a gas layer above the water, which the
+//    surface rule missed: 1 372 particles gathered there by 6.75 s).
 // Decisions are made per particle from the state before any change, then applied; removals in
 // index order: the same result on any number of threads.
 //
