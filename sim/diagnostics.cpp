@@ -69,8 +69,7 @@ double mechanicalEnergy(const Simulation& sim) {
   const Vec3 g = gravityOf(scene);
   const double floorY = floorHeightOf(scene);
   const bool clamp = scene.solver.clampNegativePressure;
-  const double spacing = scene.solver.particleSpacing;
-  const double M = latticeGradientMoment(SphKernels(sim.kernels().h, sim.kernels().choice, spacing), spacing);
+  const double M = sim.gradientMoment();
   double e = 0;
   for (size_t i = 0; i < ps.size(); ++i) {
     const double m = ps.mass[i];

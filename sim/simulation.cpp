@@ -113,7 +113,8 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   // the spiky kernel gives 0.947 and Wendland C2 0.950 (settled hydrostatic pressure 5 % high);
   // one constant factor, computed once, fixes that without touching the force's symmetry, and
   // a constant factor keeps a conservative force conservative.
-  kernels_.scalePressureGradient(1 / latticeGradientMoment(kernels_, st.particleSpacing));
+  gradientMoment_ = latticeGradientMoment(kernels_, st.particleSpacing);
+  kernels_.scalePressureGradient(1 / gradientMoment_);
   if (st.freeSurfaceCompletion) {
     // The table is for a continuous half-space; the seeding lattice's flat face is what must
     // start at rest density, so the answer is scaled to be exact for its outer layer (at

@@ -65,6 +65,8 @@ class Simulation {
   const SimulationCounters& counters() const { return counters_; }
   const StageTimes& stageTimes() const { return times_; }
   const SphKernels& kernels() const { return kernels_; }
+  /// The rest-lattice gradient moment M the pressure gradient was divided by (see the constructor).
+  Real gradientMoment() const { return gradientMoment_; }
   const BoundarySamples& boundary() const { return boundary_; }
   const NeighborLists& fluidNeighbors() const { return fluidNeighbors_; }
   Real particleSpacing() const { return scene_.solver.particleSpacing; }
@@ -115,6 +117,7 @@ class Simulation {
   uint64_t nextId_ = 0;
   SimulationCounters counters_;
   StageTimes times_;
+  Real gradientMoment_ = 1;
 };
 
 /// sum of f(i, j, k) over the integer offsets of a cubic lattice that can reach within h of
