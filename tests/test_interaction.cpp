@@ -138,6 +138,40 @@ temperature = 60.0
   for (Real rho0 : sim.particles().restDensity) EXPECT_DOUBLE_EQ(rho0, 1000.0 / (1 + 0.02 * 50));
 }
 
+// The Boussinesq form keeps the rest density and scales the weight: with no pressure effect the
+// particles fall freely at g rho0(T)/rest_density = g / (1 + 0.02 * 50) = g / 2. Symplectic
+// Euler integrates a constant acceleration's velocity exactly, so v = a t up to rounding
+// (1e-9 m/s: a few hundred steps of double-precision sums).
+TEST(ThermalExpansion, BoussinesqKeepsRestDensityAndHalvesTheWeightOfWaxAt60C) {
+  const std::string text = std::string(kHeader) + R"(
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "wax"
+rest_density = 1000.0
+stiffness = 100.0
+thermal_expansion = 0.02
+reference_temperature = 10.0
+[[fluid]]
+phase = "wax"
+min = [0.0, 0.0, 0.0]
+max = [0.03, 0.03, 0.03]
+temperature = 60.0
+[effects.gravity]
+[effects.thermal_expansion]
+boussinesq = 1
+)";
+  Simulation sim(parseScene(text, "boussinesq.toml"));
+  sim.advanceTo(0.1);
+  const ParticleSet& ps = sim.particles();
+  ASSERT_EQ(ps.size(), 27u);
+  for (size_t i = 0; i < ps.size(); ++i) {
+    EXPECT_DOUBLE_EQ(ps.restDensity[i], 1000.0);
+    EXPECT_NEAR(ps.velocity[i].y, -9.81 / 2 * sim.time(), 1e-9);
+    EXPECT_NEAR(ps.velocity[i].x, 0.0, 1e-12);
+  }
+}
+
 // Sphericity (Wadell): pi^(1/3) (6 V)^(2/3) / A of the surfaced particles; 1 for a sphere.
 struct Shape {
   Real sphericity, volume;
