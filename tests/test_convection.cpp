@@ -210,7 +210,7 @@ TEST(RayleighTaylor, HeavyOverLightOverturnsAtTheLampsViscosityAndTheStableWayRo
 // the wax crosses the vessel's middle height upward and downward at least three times; no
 // particle leaves the vessel and none turns NaN. A crossing counts once the centre has gone
 // one particle spacing past the middle (hysteresis, so that jitter about the middle is not a
-// cycle). MF_LAMP_SET: ';'-separated --set overrides for trials. DISABLED: the shipped lamp
+// cycle). MF_LAMP_SET: ';'-separated --set overrides, MF_LAMP_SCENE: a scene file, for trials. DISABLED: the shipped lamp
 // (Boussinesq buoyancy, beta 0.05, sigma 2, gradient correction) rises and sinks, but its
 // hottest tenth climbs only slowly: measured 0.08 m at 13 s, 0.27 m at 40 s, 0.36 m at 58 s,
 // no crossing (23 min on one core); no particle left the vessel, none NaN. The bulb keeps the
@@ -223,7 +223,8 @@ struct LampCycles {
 };
 
 LampCycles lampCycles(const std::vector<std::string>& overrides) {
-  const Scene scene = loadScene("lava_lamp", overrides);
+  const char* file = std::getenv("MF_LAMP_SCENE");  // a scene file for trials
+  const Scene scene = loadScene(file ? file : "lava_lamp", overrides);
   Simulation sim(scene);
   const int wax = scene.phaseIndex("wax");
   const SolidSpec* vessel = nullptr;
