@@ -117,8 +117,8 @@ rate = 2.0
   }
 }
 
-TEST(ThermalExpansion, RestDensityFollowsTemperature) {
-  const std::string text = std::string(kHeader) + R"(
+// 27 particles of wax at 60 deg C, beta 0.02 /K from 10 deg C: rho0(T) = 1000 / 2.
+const std::string kWaxAt60C = std::string(kHeader) + R"(
 [solver]
 particle_spacing = 0.01
 [[phase]]
@@ -134,7 +134,9 @@ max = [0.03, 0.03, 0.03]
 temperature = 60.0
 [effects.thermal_expansion]
 )";
-  Simulation sim(parseScene(text, "expansion.toml"));
+
+TEST(ThermalExpansion, RestDensityFollowsTemperature) {
+  Simulation sim(parseScene(kWaxAt60C, "expansion.toml"));
   for (Real rho0 : sim.particles().restDensity) EXPECT_DOUBLE_EQ(rho0, 1000.0 / (1 + 0.02 * 50));
 }
 
@@ -143,24 +145,8 @@ temperature = 60.0
 // Euler integrates a constant acceleration's velocity exactly, so v = a t up to rounding
 // (1e-9 m/s: a few hundred steps of double-precision sums).
 TEST(ThermalExpansion, BoussinesqKeepsRestDensityAndHalvesTheWeightOfWaxAt60C) {
-  const std::string text = std::string(kHeader) + R"(
-[solver]
-particle_spacing = 0.01
-[[phase]]
-name = "wax"
-rest_density = 1000.0
-stiffness = 100.0
-thermal_expansion = 0.02
-reference_temperature = 10.0
-[[fluid]]
-phase = "wax"
-min = [0.0, 0.0, 0.0]
-max = [0.03, 0.03, 0.03]
-temperature = 60.0
-[effects.gravity]
-[effects.thermal_expansion]
-boussinesq = 1
-)";
+  // The key lands in [effects.thermal_expansion], the scene's last table.
+  const std::string text = kWaxAt60C + "boussinesq = 1\n[effects.gravity]\n";
   Simulation sim(parseScene(text, "boussinesq.toml"));
   sim.advanceTo(0.1);
   const ParticleSet& ps = sim.particles();
