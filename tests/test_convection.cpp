@@ -13,6 +13,7 @@
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "sim/solids.h"
+#include "tests/env_overrides.h"
 
 namespace {
 
@@ -262,17 +263,7 @@ LampCycles lampCycles(const std::vector<std::string>& overrides) {
 }  // namespace
 
 TEST(LavaLamp, DISABLED_WaxRisesAndSinksThreeTimesInSixtySeconds) {
-  std::vector<std::string> overrides;
-  if (const char* e = std::getenv("MF_LAMP_SET")) {
-    std::string s = e, cur;
-    for (char ch : s + ";")
-      if (ch == ';') {
-        if (!cur.empty()) overrides.push_back(cur);
-        cur.clear();
-      } else {
-        cur += ch;
-      }
-  }
+  std::vector<std::string> overrides = test::overridesFromEnv("MF_LAMP_SET");
   overrides.push_back("scene.end_time=60");
   const LampCycles c = lampCycles(overrides);
   EXPECT_GE(c.sinks, 3);

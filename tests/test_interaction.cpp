@@ -13,6 +13,7 @@
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "surfacing/particle_surface.h"
+#include "tests/env_overrides.h"
 
 namespace {
 
@@ -526,14 +527,7 @@ TEST(WaterOilScene, DISABLED_OilSettlesOnTopAndNoneIsStranded) {
 namespace {
 using namespace mf;
 TEST(WaterOilSeries, DISABLED_Profile) {
-  std::vector<std::string> ovr;
-  if (const char* e = std::getenv("MF_WATER_OIL_SET")) {
-    std::string s = e, cur;
-    for (char c : s) {
-      if (c == ';') { if (!cur.empty()) ovr.push_back(cur); cur.clear(); } else cur += c;
-    }
-    if (!cur.empty()) ovr.push_back(cur);
-  }
+  const std::vector<std::string> ovr = test::overridesFromEnv("MF_WATER_OIL_SET");
   const Scene scene = loadScene("water_oil", ovr);
   Simulation sim(scene);
   const int oil = scene.phaseIndex("oil"), water = scene.phaseIndex("water");
