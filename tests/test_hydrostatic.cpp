@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <map>
+#include <string>
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -44,8 +45,8 @@ rate = 40.0
 until = 0.3
 )";
 
-TEST(Hydrostatic, SettledPressureMatchesRhoGDepth) {
-  const mf::Scene scene = mf::parseScene(kColumn, "hydrostatic");
+void checkSettledColumn(const std::string& text) {
+  const mf::Scene scene = mf::parseScene(text, "hydrostatic");
   mf::Simulation sim(scene);
   const double g = 9.81, rho0 = 1000, width = 0.1, h = sim.kernels().h;
   // The column starts uncompressed, drops onto its own weight and would ring in its vertical
@@ -100,6 +101,19 @@ TEST(Hydrostatic, SettledPressureMatchesRhoGDepth) {
               slope, -rho0 * g, surface, H, (H - surface) / spacing);
   EXPECT_NEAR(slope / (-rho0 * g), 1.0, 0.02);
   EXPECT_NEAR(surface, H, 0.5 * spacing);
+}
+
+TEST(Hydrostatic, SettledPressureMatchesRhoGDepth) { checkSettledColumn(kColumn); }
+
+// The pressure's hydrostatic reference (sim/effects/pressure.cpp) moves rho0 g (H - y) out of
+// the pair forces into an exact body force; the settled state must not change. The reference
+// is put at 0.07 m, a spacing and a half below the surface (0.08 m), so that the pressure the
+// pair forces see, p - p_ref, is 0 at the floor and grows to ~80 Pa at the surface.
+TEST(Hydrostatic, SettledPressureMatchesRhoGDepthWithTheHydrostaticReference) {
+  std::string text = kColumn;
+  const std::string section = "gradient_correction = 1\n";
+  text.insert(text.find(section) + section.size(), "reference_density = 1000.0\nreference_level = 0.07\n");
+  checkSettledColumn(text);
 }
 
 }  // namespace

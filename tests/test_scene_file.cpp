@@ -109,6 +109,18 @@ TEST(SceneFile, OverridesApplyAndAreValidated) {
   EXPECT_EQ(problemsOf(kGood, {"nonsense"}).size(), 1u);
 }
 
+// A hydrostatic reference without gravity would silently do nothing: it is an error that names
+// the key, and with gravity it parses.
+TEST(SceneFile, HydrostaticReferenceNeedsGravity) {
+  const std::string reference = "[effects.pressure]\nreference_density = 1000.0\nreference_level = 0.4\n";
+  const mf::Scene s = mf::parseScene(replaceLine(kGood, "[effects.pressure]\n", reference), "good.toml");
+  EXPECT_EQ(s.effect("pressure")->number("reference_density"), 1000.0);
+  const auto p = problemsOf(replaceLine(replaceLine(kGood, "[effects.pressure]\n", reference), "[effects.gravity]\n", ""));
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].key, "effects.pressure.reference_density");
+  EXPECT_NE(p[0].message.find("has no effect without [effects.gravity]"), std::string::npos) << p[0].message;
+}
+
 TEST(SceneFile, EmbeddedScenesAreValid) {
   const auto names = mf::embeddedSceneNames();
   ASSERT_GE(names.size(), 2u);
