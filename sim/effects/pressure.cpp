@@ -19,8 +19,9 @@
 // p_i sum_j V_j grad W_ij term, zero only on a perfect lattice, gives the particle arrangement
 // a rigidity proportional to the pressure itself; at 10 cm depth that is ~1 kPa against the
 // ~15 Pa a lone oil particle's buoyancy exerts over its own size, so the lattice cages it.
-// With rho_ref the lightest liquid's density, p' >= 0 stays repulsive (no tensile clumping)
-// and is only the density differences' share of the pressure.
+// Choice (README, hydrostatic reference): rho_ref the densest liquid and the level where a
+// column of it weighs what the liquids weigh; then p' = 0 at the floor and dp'/dy >= 0 above,
+// so p' never turns tensile, in any arrangement of the liquids.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -179,7 +180,7 @@ EffectInfo pressureInfo() {
           "state equation P = k (rho - rho0) and the symmetric pressure force (eq. 5), walls by Akinci 2012",
           {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"},
            {"gradient_correction", 1, 0, 1, {0.0}, "", "1: symmetric kernel-gradient correction, exact for linear pressure fields (settled pressure error ~1 % instead of ~4 %, about 45 % more time per step); 0: plain kernel gradient"},
-           {"reference_density", 1, 0, 1e5, {0.0}, "kg/m^3", "hydrostatic reference subtracted from the pressure in the pair forces and added back exactly as a body force (0: none); the lightest liquid's rest density keeps the remainder repulsive"},
+           {"reference_density", 1, 0, 1e5, {0.0}, "kg/m^3", "hydrostatic reference subtracted from the pressure in the pair forces and added back exactly as a body force (0: none); the densest liquid's rest density with reference_level where a column of it weighs what the liquids weigh keeps the remainder repulsive"},
            {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface where the reference pressure is 0; it grows as rho_ref |g| depth below"}},
           [](const EffectSpec& spec, const Scene& scene) {
             const EffectSpec* g = scene.effect("gravity");
