@@ -66,11 +66,11 @@ struct Mat3 {
 class Pressure final : public Effect {
  public:
   Pressure(Real wallScale, bool correctGradient, Real referenceDensity, Real referenceLevel, const Vec3& g)
-      : wallScale_(wallScale), correct_(correctGradient), refDensity_(referenceDensity), refLevel_(referenceLevel) {
+      : wallScale_(wallScale), correct_(correctGradient), refLevel_(referenceLevel) {
     const Real gn = length(g);
-    if (refDensity_ > 0 && gn > 0) {
+    if (referenceDensity > 0 && gn > 0) {
       up_ = g * (-1 / gn);
-      refWeight_ = refDensity_ * gn;  // |grad p_ref|, Pa/m
+      refWeight_ = referenceDensity * gn;  // |grad p_ref|, Pa/m
     }
   }
   const char* name() const override { return "pressure"; }
@@ -166,7 +166,7 @@ class Pressure final : public Effect {
 
   Real wallScale_;
   bool correct_;
-  Real refDensity_, refLevel_;
+  Real refLevel_;
   Real refWeight_ = 0;  // rho_ref |g|; 0: no reference
   Vec3 up_;
   std::vector<Mat3> correction_;
