@@ -8,6 +8,7 @@ packages=(
   libembree-dev libosmesa6-dev libopenimageio-dev
   ffmpeg gnuplot-nox
   libgtest-dev libbenchmark-dev
+  libcli11-dev libxxhash-dev python3 clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do
