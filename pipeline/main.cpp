@@ -1,33 +1,26 @@
 // multifluid: runs scenes frame by frame through the stages sim -> surface -> render -> encode
 // (and a quick particle preview), each also a subcommand on a frame range; `diff` compares two
-// frame sequences; `report` measures accuracy and stability.
+// frame sequences; `report` measures accuracy and stability. The command line is parsed by CLI11:
+// numbers are strict, ranges are checked (frames against the scene), and a usage error exits 2.
+#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <tbb/global_control.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <functional>
-#include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "pipeline/report.h"
-#include "sim/particle_io.h"
+#include "pipeline/stages.h"
+#include "render/image.h"
+#include "sim/scene_budget.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
-#include "render/image.h"
-#include "render/preview.h"
-#include "render/render_frame.h"
-#include "surfacing/surface_frame.h"
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
 namespace {
 
@@ -36,348 +29,162 @@ constexpr const char* kDefaultScene = "lava_lamp";
 // from nothing to an mp4 (the scene file itself asks for 60 s at 10 fps and 16 samples).
 const std::vector<std::string> kDefaultDemoSettings = {"scene.end_time=12.0", "scene.frame_rate=5.0", "render.samples=8"};
 
-void usage(std::FILE* to) {
-  fmt::print(to,
-             "usage: multifluid [run] [SCENE] [--out DIR] [--frames A-B] [--stages LIST] [--threads N] [--set key=value]...\n"
-             "                  [--resolution WxH] [--samples N] [--preview-colour phase|temperature]\n"
-             "       multifluid sim|surface|render|preview|encode SCENE [same options]\n"
-             "       multifluid diff DIR_A DIR_B [--threshold T] [--fail-percent P] [--out DIFF_DIR]\n"
-             "       multifluid validate SCENE [--set key=value]...\n"
-             "       multifluid report accuracy|stability [--quick] [--out DIR]\n"
-             "       multifluid scenes\n"
-             "\n"
-             "SCENE is a scene file (TOML) or the name of an embedded scene; with no argument at all the\n"
-             "embedded '{}' scene runs into runs/{} at demo quality ({}).\n"
-             "Stages: sim, surface, render, preview, encode\n"
-             "(default for run: sim,surface,render,encode). Output in DIR (default runs/<scene>):\n"
-             "particles/particles.NNNN.vdb (OpenVDB points), surface/surface.NNNN.vdb (level sets),\n"
-             "mesh/ (if the scene asks for meshes), render/render.NNNN.exr|png, preview/preview.NNNN.png,\n"
-             "<scene>.mp4, scene.toml (the resolved scene), checkpoint.bin, run.log.\n"
-             "A re-run with the same scene and DIR resumes from the last checkpoint; finished frames of\n"
-             "every stage are skipped. Surfacing frame N needs only particles.N.vdb; rendering it, only\n"
-             "surface.N.vdb. diff exits non-zero when a frame has more than P % of pixels (default 1)\n"
-             "differing by more than T (default 0.016, displayed values in [0, 1]) or a frame is missing.\n",
-             kDefaultScene, kDefaultScene, fmt::join(kDefaultDemoSettings, ", "));
-}
+/// A usage error: printed with the command's help hint, exit status 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 struct Options {
   std::string command = "run";
-  std::string scene = kDefaultScene;
-  std::string out;
+  std::string scene, out;
   std::vector<std::string> sets;
-  int firstFrame = 0, lastFrame = -1;
+  std::string frames, stages, resolution, previewColour = "phase";
+  int samples = 0;
   int threads = 0;
-  bool sim = true, surface = true, render = true, preview = false, encode = true;
-  mf::render::PreviewColour previewColour = mf::render::PreviewColour::Phase;
+  double maxMemoryMiB = 0;
+  double maxStepsPerFrame = 1e5;
+  bool force = false;
   // diff
-  std::string dirA, dirB;
+  std::vector<std::string> diffPaths;
   double threshold = 0.016, failPercent = 1;
 };
 
-double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-std::string formatDuration(double s) {
-  if (s < 60) return fmt::format("{:.1f}s", s);
-  return fmt::format("{}m{:02d}s", int(s / 60), int(s) % 60);
+/// "A-B" or "A" with 0 <= A <= B: CLI11 validator (strict: "2-3x" is refused).
+std::string checkFrames(const std::string& s) {
+  const size_t dash = s.find('-');
+  auto digits = [](const std::string& t) { return !t.empty() && t.size() <= 7 && t.find_first_not_of("0123456789") == std::string::npos; };
+  const std::string a = s.substr(0, dash), b = dash == std::string::npos ? a : s.substr(dash + 1);
+  if (!digits(a) || !digits(b)) return "takes A-B or A (frame numbers, 0 <= A <= B), e.g. 0-30";
+  if (std::stoi(a) > std::stoi(b)) return "takes A-B with A <= B";
+  return "";
 }
 
-void writeTextAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    o << text;
-    if (!o) throw std::runtime_error("cannot write " + tmp.string());
-  }
-  fs::rename(tmp, path);
+std::string checkResolution(const std::string& s) {
+  const size_t x = s.find('x');
+  auto digits = [](const std::string& t) { return !t.empty() && t.size() <= 5 && t.find_first_not_of("0123456789") == std::string::npos; };
+  if (x == std::string::npos || !digits(s.substr(0, x)) || !digits(s.substr(x + 1)))
+    return "takes WxH, e.g. 320x180";
+  const int w = std::stoi(s.substr(0, x)), h = std::stoi(s.substr(x + 1));
+  if (w < 8 || h < 8 || w > 16384 || h > 16384) return "each of W and H must be in [8, 16384]";
+  return "";
 }
 
-// The output layout, in one place.
-fs::path particleFile(const fs::path& out, int f) { return out / "particles" / fmt::format("particles.{:04d}.vdb", f); }
-fs::path surfaceFile(const fs::path& out, int f) { return out / "surface" / fmt::format("surface.{:04d}.vdb", f); }
-fs::path renderFile(const fs::path& out, int f, const char* ext) { return out / "render" / fmt::format("render.{:04d}.{}", f, ext); }
-fs::path previewFile(const fs::path& out, int f) { return out / "preview" / fmt::format("preview.{:04d}.png", f); }
-
-int lastFrameToRun(const Options& opt, const mf::Scene& scene) {
-  return opt.lastFrame >= 0 ? std::min(opt.lastFrame, scene.lastFrame()) : scene.lastFrame();
+std::string checkStages(const std::string& s) {
+  if (s.empty()) return "needs at least one stage (sim, surface, render, preview, encode)";
+  std::stringstream ss(s);
+  for (std::string stage; std::getline(ss, stage, ',');)
+    if (stage != "sim" && stage != "surface" && stage != "render" && stage != "preview" && stage != "encode")
+      return "unknown stage '" + stage + "' (stages: sim, surface, render, preview, encode)";
+  if (s.back() == ',') return "has an empty stage name";
+  return "";
 }
 
-std::string runSimulation(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  fs::create_directories(out / "particles");
-  const int lastFrame = lastFrameToRun(opt, scene);
-  const fs::path checkpoint = out / "checkpoint.bin";
-
-  const auto t0 = Clock::now();
-  mf::Simulation sim(scene);
-  double tInit = seconds(Clock::now() - t0), tSim = 0, tWrite = 0, tCheckpoint = 0;
-  mf::FrameInfo info;
-  info.sceneName = scene.name;
-  info.particleSpacing = scene.solver.particleSpacing;
-  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
-
-  auto writeFrame = [&](int f) {
-    if (f < opt.firstFrame) return;
-    const auto w0 = Clock::now();
-    info.frame = f;
-    info.time = sim.time();
-    mf::writeParticleFrame(particleFile(out, f).string(), sim.particles(), info);
-    tWrite += seconds(Clock::now() - w0);
-  };
-  auto saveCheckpoint = [&](int f) {
-    const auto c0 = Clock::now();
-    sim.saveCheckpoint(checkpoint.string(), f);
-    tCheckpoint += seconds(Clock::now() - c0);
-  };
-
-  int startFrame = 0;
-  bool resumed = false;
-  if (fs::exists(checkpoint)) {
-    const int checkpointFrame = sim.loadCheckpoint(checkpoint.string());
-    // Frames before the checkpoint that this run asks for must exist (an earlier run may have
-    // written only a later range); otherwise simulate again from the start: same bits.
-    int missing = -1;
-    for (int f = opt.firstFrame; f <= std::min(checkpointFrame, lastFrame) && missing < 0; ++f)
-      if (!fs::exists(particleFile(out, f))) missing = f;
-    if (missing < 0) {
-      startFrame = checkpointFrame + 1;
-      resumed = true;
-      fmt::print(stderr, "resuming {} from its checkpoint at frame {} (t = {:.4f} s)\n", out.string(), checkpointFrame, sim.time());
-    } else {
-      fmt::print(stderr, "frame {} was never written in {}: simulating again from frame 0\n", missing, out.string());
-      sim = mf::Simulation(scene);
-    }
-  }
-  if (!resumed) {
-    writeFrame(0);
-    saveCheckpoint(0);
-    startFrame = 1;
-  }
-  const size_t n0 = sim.particles().size();
-  fmt::print(stderr, "{}: {} particles, {} boundary samples, h = {:.4g} m, frames {}..{} at {} fps -> {}\n", scene.name, n0,
-             sim.boundary().size(), sim.kernels().h, opt.firstFrame, lastFrame, scene.frameRate, out.string());
-
-  const uint64_t steps0 = sim.stepCount();
-  double particleSteps = 0;
-  const auto loopStart = Clock::now();
-  for (int f = startFrame; f <= lastFrame; ++f) {
-    const auto s0 = Clock::now();
-    auto lastNote = Clock::now();
-    sim.advanceTo(f / scene.frameRate, [&](const mf::Simulation& s) {
-      particleSteps += double(s.particles().size());
-      // Long frames (large scenes) report inside the frame too, every few seconds.
-      if (seconds(Clock::now() - lastNote) > 5) {
-        lastNote = Clock::now();
-        fmt::print(stderr, "  [frame {:4d}] t = {:.5f} s of {:.5f} s, step {}, dt {:.2e} s\n", f, s.time(), f / scene.frameRate,
-                   s.stepCount(), s.counters().lastDt);
-      }
-    });
-    tSim += seconds(Clock::now() - s0);
-    writeFrame(f);
-    saveCheckpoint(f);
-    const double elapsed = seconds(Clock::now() - loopStart);
-    const double eta = elapsed / (f - startFrame + 1) * (lastFrame - f);
-    fmt::print(stderr, "[frame {:4d}/{}] t = {:.4f} s  steps {:6d}  dt {:.2e} s  particles {}  elapsed {}  left ~{}\n", f,
-               lastFrame, sim.time(), sim.stepCount(), sim.counters().lastDt, sim.particles().size(),
-               formatDuration(elapsed), formatDuration(eta));
-  }
-
-  const auto& c = sim.counters();
-  const uint64_t steps = sim.stepCount() - steps0;
-  std::string summary = fmt::format(
-      "\nsummary for {} ({} threads requested)\n"
-      "  stage            time\n"
-      "  setup         {:>8.2f} s\n"
-      "  simulate      {:>8.2f} s   {} steps, {:.0f} ns per particle-step\n"
-      "  write frames  {:>8.2f} s\n"
-      "  checkpoints   {:>8.2f} s\n"
-      "  particles: {} at start, {} now, {} left the domain; watchdog retries: {}; wall clamps: {}; max compression {:.2f}%\n",
-      scene.name, opt.threads > 0 ? std::to_string(opt.threads) : "all", tInit, tSim, steps,
-      particleSteps > 0 ? tSim * 1e9 / particleSteps : 0.0, tWrite, tCheckpoint, n0, sim.particles().size(),
-      c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError);
-  return summary;
+void addSceneOptions(CLI::App& app, Options& opt, bool stageOptions) {
+  app.add_option("SCENE", opt.scene,
+                 "a scene file (a path with '/' or a name ending in .toml) or the name of an embedded scene")
+      ->required();
+  app.add_option("--set", opt.sets, "key=value: override any scene key (TOML value), e.g. solver.cfl=0.3")->take_all();
+  app.add_option("--max-memory", opt.maxMemoryMiB, "refuse scenes estimated above this many MiB (default: 80 % of the machine's memory)")
+      ->check(CLI::Range(1.0, 1e9));
+  app.add_option("--max-steps-per-frame", opt.maxStepsPerFrame,
+                 "refuse scenes estimated above, and stop runs reaching, this many steps per frame (0: no bound)")
+      ->check(CLI::Range(0.0, 1e12));
+  app.add_flag("--force", opt.force, "run a scene over the step estimate anyway (the run still stops at the bound)");
+  if (!stageOptions) return;
+  app.add_option("--out", opt.out, "the run folder (default runs/<scene name>)");
+  app.add_option("--frames", opt.frames, "A-B or A: the frames to run (within the scene's)")->check(CLI::Validator(checkFrames, "A-B"));
+  app.add_option("--threads", opt.threads, "worker threads (default: all cores)")->check(CLI::Range(1, 4096));
+  app.add_option("--resolution", opt.resolution, "WxH of rendered frames, e.g. 320x180")->check(CLI::Validator(checkResolution, "WxH"));
+  app.add_option("--samples", opt.samples, "samples per pixel")->check(CLI::Range(1, 100000));
+  app.add_option("--preview-colour,--preview-color", opt.previewColour, "preview colours")
+      ->check(CLI::IsMember({"phase", "temperature"}));
 }
 
-std::string runSurfacing(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  const int lastFrame = lastFrameToRun(opt, scene);
-  const auto t0 = Clock::now();
-  int done = 0, skipped = 0, missing = 0;
-  size_t voxels = 0;
-  for (int f = opt.firstFrame; f <= lastFrame; ++f) {
-    const fs::path particles = particleFile(out, f);
-    if (!fs::exists(particles)) {
-      ++missing;
-      continue;
-    }
-    const auto f0 = Clock::now();
-    const auto r = mf::surfacing::surfaceFrame(particles.string(), scene,
-                                               surfaceFile(out, f).string(),
-                                               (out / "mesh").string(), f);
-    if (r.skipped) {
-      ++skipped;
-      continue;
-    }
-    ++done;
-    voxels += r.activeVoxels;
-    const double elapsed = seconds(Clock::now() - t0);
-    fmt::print(stderr, "[surface {:4d}/{}] {} phase(s), {} active voxels, {:.2f} s  elapsed {}  left ~{}\n", f, lastFrame,
-               scene.surfacing.phases.size(), r.activeVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
-               formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
+/// The scene, with the command line's render settings, and its budget checked.
+mf::Scene loadCheckedScene(const Options& opt, mf::SceneBudget* budgetOut = nullptr) {
+  std::vector<std::string> sets = opt.sets;
+  if (!opt.resolution.empty()) {
+    const size_t x = opt.resolution.find('x');
+    sets.push_back("render.width=" + opt.resolution.substr(0, x));
+    sets.push_back("render.height=" + opt.resolution.substr(x + 1));
   }
-  const double total = seconds(Clock::now() - t0);
-  if (missing > 0) fmt::print(stderr, "surface: {} frame(s) have no particle file yet (run the sim stage)\n", missing);
-  return fmt::format("  surface       {:>8.2f} s   {} frame(s) surfaced ({:.2f} s each, {:.0f} active voxels each), {} already done\n",
-                     total, done, done > 0 ? total / done : 0.0, done > 0 ? double(voxels) / done : 0.0, skipped);
+  if (opt.samples > 0) sets.push_back(fmt::format("render.samples={}", opt.samples));
+  mf::Scene scene = mf::loadScene(opt.scene, sets);
+  mf::BudgetLimits limits;
+  if (opt.maxMemoryMiB > 0) limits.maxMemoryBytes = opt.maxMemoryMiB * 1024 * 1024;
+  limits.maxStepsPerFrame = opt.maxStepsPerFrame;
+  limits.force = opt.force;
+  const mf::SceneBudget budget = mf::checkSceneBudget(scene, limits);
+  if (budgetOut) *budgetOut = budget;
+  return scene;
 }
 
-std::string runRender(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  const int lastFrame = lastFrameToRun(opt, scene);
-  const auto t0 = Clock::now();
-  int done = 0, skipped = 0, missing = 0;
-  uint64_t rays = 0;
-  double traceSeconds = 0;
-  for (int f = opt.firstFrame; f <= lastFrame; ++f) {
-    if (!fs::exists(surfaceFile(out, f))) {
-      ++missing;
-      continue;
-    }
-    const auto f0 = Clock::now();
-    auto lastNote = Clock::now();
-    auto progress = [&](int rows, int total) {
-      if (seconds(Clock::now() - lastNote) < 5) return;
-      lastNote = Clock::now();
-      const double e = seconds(Clock::now() - f0);
-      fmt::print(stderr, "  [render {:4d}] {:3d}% of rows, {} left in this frame\n", f, 100 * rows / total,
-                 formatDuration(e / rows * (total - rows)));
-    };
-    const auto r = mf::render::renderFrame(surfaceFile(out, f).string(), scene, renderFile(out, f, "exr").string(),
-                                           renderFile(out, f, "png").string(), f, progress);
-    if (r.skipped) {
-      ++skipped;
-      continue;
-    }
-    ++done;
-    rays += r.rays;
-    traceSeconds += r.seconds;
-    const double elapsed = seconds(Clock::now() - t0);
-    fmt::print(stderr, "[render  {:4d}/{}] {}x{} x {} spp, {} triangles, {:.2f} Mrays/s, {:.2f} s  elapsed {}  left ~{}\n", f,
-               lastFrame, scene.render.width, scene.render.height, scene.render.samples, r.triangles,
-               r.seconds > 0 ? r.rays / r.seconds / 1e6 : 0.0, seconds(Clock::now() - f0), formatDuration(elapsed),
-               formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
+int runStagesCommand(const Options& opt) {
+  const mf::Scene scene = loadCheckedScene(opt);
+  mf::pipeline::StageOptions so;
+  so.threads = opt.threads;
+  so.maxStepsPerFrame = opt.maxStepsPerFrame;
+  so.previewColour = opt.previewColour == "temperature" ? mf::render::PreviewColour::Temperature : mf::render::PreviewColour::Phase;
+  if (!opt.frames.empty()) {
+    const size_t dash = opt.frames.find('-');
+    so.firstFrame = std::stoi(opt.frames.substr(0, dash));
+    so.lastFrame = dash == std::string::npos ? so.firstFrame : std::stoi(opt.frames.substr(dash + 1));
+    if (so.lastFrame > scene.lastFrame())
+      throw UsageError(fmt::format("--frames {}: the scene '{}' has frames 0-{} ({} s at {} frames/s)", opt.frames, scene.name,
+                                   scene.lastFrame(), scene.endTime, scene.frameRate));
   }
-  const double total = seconds(Clock::now() - t0);
-  if (missing > 0) fmt::print(stderr, "render: {} frame(s) have no surface file yet (run the surface stage)\n", missing);
-  return fmt::format("  render        {:>8.2f} s   {} frame(s) rendered ({:.2f} s each, {:.2f} Mrays/s), {} already done\n", total,
-                     done, done > 0 ? total / done : 0.0, traceSeconds > 0 ? rays / traceSeconds / 1e6 : 0.0, skipped);
-}
-
-std::string runPreview(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  const int lastFrame = lastFrameToRun(opt, scene);
-  const auto t0 = Clock::now();
-  int done = 0, skipped = 0;
-  for (int f = opt.firstFrame; f <= lastFrame; ++f) {
-    if (!fs::exists(particleFile(out, f))) continue;
-    const auto r = mf::render::renderPreview(particleFile(out, f).string(), scene, previewFile(out, f).string(), opt.previewColour);
-    if (r.skipped) {
-      ++skipped;
-      continue;
-    }
-    ++done;
-    if (seconds(Clock::now() - t0) > 2 || f == lastFrame)
-      fmt::print(stderr, "[preview {:4d}/{}] {} particles, {:.2f} s\n", f, lastFrame, r.particles, r.seconds);
+  if (opt.command != "run") {
+    so.sim = opt.command == "sim", so.surface = opt.command == "surface", so.render = opt.command == "render";
+    so.preview = opt.command == "preview", so.encode = opt.command == "encode";
   }
-  const double total = seconds(Clock::now() - t0);
-  return fmt::format("  preview       {:>8.2f} s   {} frame(s) drawn, {} already done\n", total, done, skipped);
-}
-
-/// H.264 (yuv420p, even sizes) of the rendered frames, or of the previews if nothing is rendered.
-std::string runEncode(const Options& opt, const mf::Scene& scene, const fs::path& out) {
-  const int lastFrame = lastFrameToRun(opt, scene);
-  const auto t0 = Clock::now();
-  struct Source {
-    const char* kind;
-    std::function<fs::path(int)> file;
-    const char* pattern;
-  };
-  const Source sources[] = {{"rendered", [&](int f) { return renderFile(out, f, "png"); }, "render/render.%04d.png"},
-                            {"preview", [&](int f) { return previewFile(out, f); }, "preview/preview.%04d.png"}};
-  const Source* used = nullptr;
-  int first = -1, count = 0;
-  for (const Source& src : sources) {
-    first = -1, count = 0;
-    for (int f = opt.firstFrame; f <= lastFrame; ++f) {
-      if (!fs::exists(src.file(f))) {
-        if (first >= 0) break;  // the movie is the first unbroken run of frames
-        continue;
-      }
-      if (first < 0) first = f;
-      ++count;
-    }
-    if (count > 0) {
-      used = &src;
-      break;
+  if (!opt.stages.empty()) {
+    so.sim = so.surface = so.render = so.preview = so.encode = false;
+    std::stringstream ss(opt.stages);
+    for (std::string s; std::getline(ss, s, ',');) {
+      so.sim |= s == "sim", so.surface |= s == "surface", so.render |= s == "render";
+      so.preview |= s == "preview", so.encode |= s == "encode";
     }
   }
-  if (count == 0) return "  encode            -      no rendered or preview frames to encode\n";
-  if (std::system("command -v ffmpeg > /dev/null 2>&1") != 0)
-    throw std::runtime_error("encode: ffmpeg was not found on PATH (Debian: apt-get install ffmpeg; scripts/setup.sh installs it)");
-  const fs::path movie = out / (scene.name + ".mp4");
-  const fs::path tmp = out / (scene.name + ".tmp.mp4");
-  const std::string command = fmt::format(
-      "ffmpeg -y -loglevel error -framerate {} -start_number {} -i '{}' -frames:v {} -c:v libx264 -preset medium -crf 18 "
-      "-pix_fmt yuv420p -vf 'scale=trunc(iw/2)*2:trunc(ih/2)*2' -fflags +bitexact -flags:v +bitexact -map_metadata -1 '{}'",
-      scene.frameRate, first, (out / used->pattern).string(), count, tmp.string());
-  if (std::system(command.c_str()) != 0) throw std::runtime_error("encode: ffmpeg failed: " + command);
-  fs::rename(tmp, movie);
-  const double total = seconds(Clock::now() - t0);
-  fmt::print(stderr, "[encode] {} {} frames from {} -> {}\n", count, used->kind, first, movie.string());
-  return fmt::format("  encode        {:>8.2f} s   {} {} frame(s) -> {}\n", total, count, used->kind, movie.string());
-}
-
-int runStages(const Options& opt) {
-  const mf::Scene scene = mf::loadScene(opt.scene, opt.sets);
+  // The scene name was checked when the file was read (letters, digits, '_', '-', '.'; no '/'
+  // or '..'), so the default folder stays inside runs/.
   const fs::path out = opt.out.empty() ? fs::path("runs") / scene.name : fs::path(opt.out);
-  fs::create_directories(out);
-  writeTextAtomically(out / "scene.toml", scene.sourceText);
-  std::string summary;
-  if (opt.sim) summary += runSimulation(opt, scene, out);
-  if (summary.empty()) summary = fmt::format("\nsummary for {}\n", scene.name);
-  if (opt.surface) summary += runSurfacing(opt, scene, out);
-  if (opt.render) summary += runRender(opt, scene, out);
-  if (opt.preview) summary += runPreview(opt, scene, out);
-  if (opt.encode) summary += runEncode(opt, scene, out);
-  fmt::print(stderr, "{}", summary);
-  std::ofstream(out / "run.log", std::ios::app) << summary;
-  return 0;
+  std::unique_ptr<tbb::global_control> threads;
+  if (opt.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
+  return mf::pipeline::runStages(scene, so, out);
 }
 
 int validate(const Options& opt) {
-  const mf::Scene scene = mf::loadScene(opt.scene, opt.sets);
+  mf::SceneBudget b;
+  const mf::Scene scene = loadCheckedScene(opt, &b);
   fmt::print("{}: valid scene '{}', {} phase(s), {} solid(s), {} fluid block(s), effects:", scene.sourceFile, scene.name,
              scene.phases.size(), scene.solids.size(), scene.fluids.size());
   for (const auto& e : scene.effects) fmt::print(" {}", e.name);
-  fmt::print("\n");
+  fmt::print("\n  estimate: {:.0f} particles, {:.0f} boundary samples, {:.0f} MiB at most; dt {:.3g} s at rest ({}), {:.0f} steps per frame\n",
+             b.particles, b.boundarySamples, b.memoryBytes / (1024.0 * 1024.0), b.restTimeStep, b.timeStepLimiter, b.stepsPerFrame);
   return 0;
 }
 
 /// Compares the images of two frame sequences by name (or two image files).
 int diffSequences(const Options& opt) {
+  const std::string dirA = opt.diffPaths.at(0), dirB = opt.diffPaths.at(1);
   std::vector<std::pair<fs::path, fs::path>> pairs;
   std::vector<std::string> missing;
   auto isImage = [](const fs::path& p) { return p.extension() == ".png" || p.extension() == ".exr"; };
-  if (fs::is_regular_file(opt.dirA) && fs::is_regular_file(opt.dirB)) {
-    pairs.push_back({opt.dirA, opt.dirB});
+  if (fs::is_regular_file(dirA) && fs::is_regular_file(dirB)) {
+    pairs.push_back({dirA, dirB});
   } else {
-    for (const auto& dir : {opt.dirA, opt.dirB})
-      if (!fs::is_directory(dir)) throw std::runtime_error("diff: " + dir + " is not a directory");
+    for (const auto& dir : {dirA, dirB})
+      if (!fs::is_directory(dir)) throw UsageError("diff: " + dir + " is not a directory or an image file");
     std::vector<fs::path> names;
-    for (const auto& e : fs::directory_iterator(opt.dirA))
+    for (const auto& e : fs::directory_iterator(dirA))
       if (isImage(e.path())) names.push_back(e.path().filename());
-    for (const auto& e : fs::directory_iterator(opt.dirB))
-      if (isImage(e.path()) && !fs::exists(fs::path(opt.dirA) / e.path().filename()))
-        missing.push_back(e.path().filename().string() + " (only in " + opt.dirB + ")");
+    for (const auto& e : fs::directory_iterator(dirB))
+      if (isImage(e.path()) && !fs::exists(fs::path(dirA) / e.path().filename()))
+        missing.push_back(e.path().filename().string() + " (only in " + dirB + ")");
     std::sort(names.begin(), names.end());
     for (const auto& n : names) {
-      if (fs::exists(fs::path(opt.dirB) / n)) pairs.push_back({fs::path(opt.dirA) / n, fs::path(opt.dirB) / n});
-      else missing.push_back(n.string() + " (only in " + opt.dirA + ")");
+      if (fs::exists(fs::path(dirB) / n)) pairs.push_back({fs::path(dirA) / n, fs::path(dirB) / n});
+      else missing.push_back(n.string() + " (only in " + dirA + ")");
     }
   }
   const fs::path diffDir = opt.out.empty() ? fs::path("diff") : fs::path(opt.out);
@@ -409,27 +216,10 @@ int diffSequences(const Options& opt) {
   return failed > 0 || !missing.empty() || pairs.empty() ? 1 : 0;
 }
 
-bool parseFrames(const std::string& s, int& a, int& b) {
-  const size_t dash = s.find('-');
-  try {
-    if (dash == std::string::npos) {
-      a = b = std::stoi(s);
-    } else {
-      a = std::stoi(s.substr(0, dash));
-      b = std::stoi(s.substr(dash + 1));
-    }
-  } catch (...) {
-    return false;
-  }
-  return a >= 0 && b >= a;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options opt;
   std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty()) opt.sets = kDefaultDemoSettings;
   if (!args.empty() && args[0] == "report") {
     try {
       return mf::report::runReportCommand(std::vector<std::string>(args.begin() + 1, args.end()));
@@ -438,97 +228,57 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  size_t k = 0;
+  Options opt;
+  if (args.empty()) {
+    // No argument at all: the demo (see kDefaultDemoSettings).
+    args = {"run", kDefaultScene};
+    opt.sets = kDefaultDemoSettings;
+  }
   const std::vector<std::string> commands = {"run", "sim", "surface", "render", "preview", "encode", "diff", "validate", "scenes"};
-  if (k < args.size() && std::find(commands.begin(), commands.end(), args[k]) != commands.end()) opt.command = args[k++];
-  const std::vector<std::string> stageNames = {"sim", "surface", "render", "preview", "encode"};
-  if (std::find(stageNames.begin(), stageNames.end(), opt.command) != stageNames.end()) {
-    // A stage subcommand runs that stage alone.
-    opt.sim = opt.command == "sim", opt.surface = opt.command == "surface", opt.render = opt.command == "render";
-    opt.preview = opt.command == "preview", opt.encode = opt.command == "encode";
+  const bool help = args[0] == "-h" || args[0] == "--help";
+  if (!help && std::find(commands.begin(), commands.end(), args[0]) == commands.end()) args.insert(args.begin(), "run");
+
+  CLI::App app{fmt::format("multifluid: multi-fluid SPH (Müller et al. 2005) -> OpenVDB level sets -> Embree path tracer.\n"
+                           "With no argument at all, the embedded '{}' scene runs into runs/{} at demo quality ({}).\n"
+                           "A re-run with the same scene and --out resumes from the last checkpoint; finished frames of every\n"
+                           "stage (those whose completion record in DIR/records verifies) are skipped.",
+                           kDefaultScene, kDefaultScene, fmt::join(kDefaultDemoSettings, ", ")),
+               "multifluid"};
+  app.require_subcommand(1);
+  app.footer("Reports: multifluid report accuracy|stability|all [--quick] [--out DIR] (see multifluid report --help)");
+  for (const char* name : {"run", "sim", "surface", "render", "preview", "encode"}) {
+    const std::string what = std::string(name) == "run" ? "run the stages sim, surface, render, encode (or --stages LIST)"
+                                                        : std::string("run the ") + name + " stage alone";
+    CLI::App* sub = app.add_subcommand(name, what);
+    addSceneOptions(*sub, opt, true);
+    if (std::string(name) == "run")
+      sub->add_option("--stages", opt.stages, "comma-separated: sim, surface, render, preview, encode")
+          ->check(CLI::Validator(checkStages, "LIST"));
+    sub->callback([&opt, name] { opt.command = name; });
   }
-  bool haveScene = false;
-  std::vector<std::string> positional;
-  for (; k < args.size(); ++k) {
-    const std::string& a = args[k];
-    auto value = [&]() -> std::string {
-      if (k + 1 >= args.size()) {
-        fmt::print(stderr, "multifluid: {} needs a value\n", a);
-        std::exit(2);
-      }
-      return args[++k];
-    };
-    if (a == "-h" || a == "--help") {
-      usage(stdout);
-      return 0;
-    } else if (a == "--out") {
-      opt.out = value();
-    } else if (a == "--set") {
-      opt.sets.push_back(value());
-    } else if (a == "--threads") {
-      opt.threads = std::atoi(value().c_str());
-      if (opt.threads < 1) {
-        fmt::print(stderr, "multifluid: --threads must be at least 1\n");
-        return 2;
-      }
-    } else if (a == "--stages") {
-      opt.sim = opt.surface = opt.render = opt.preview = opt.encode = false;
-      std::stringstream ss(value());
-      for (std::string stage; std::getline(ss, stage, ',');) {
-        if (stage == "sim") opt.sim = true;
-        else if (stage == "surface") opt.surface = true;
-        else if (stage == "render") opt.render = true;
-        else if (stage == "preview") opt.preview = true;
-        else if (stage == "encode") opt.encode = true;
-        else {
-          fmt::print(stderr, "multifluid: unknown stage '{}' (stages: sim, surface, render, preview, encode)\n", stage);
-          return 2;
-        }
-      }
-    } else if (a == "--resolution") {
-      const std::string v = value();
-      int w = 0, h = 0;
-      if (std::sscanf(v.c_str(), "%dx%d", &w, &h) != 2 || w < 8 || h < 8) {
-        fmt::print(stderr, "multifluid: --resolution takes WxH, each at least 8 (e.g. 320x180)\n");
-        return 2;
-      }
-      opt.sets.push_back(fmt::format("render.width={}", w));
-      opt.sets.push_back(fmt::format("render.height={}", h));
-    } else if (a == "--samples") {
-      opt.sets.push_back("render.samples=" + value());
-    } else if (a == "--preview-colour" || a == "--preview-color") {
-      const std::string v = value();
-      if (v == "phase") opt.previewColour = mf::render::PreviewColour::Phase;
-      else if (v == "temperature") opt.previewColour = mf::render::PreviewColour::Temperature;
-      else {
-        fmt::print(stderr, "multifluid: --preview-colour is phase or temperature\n");
-        return 2;
-      }
-    } else if (a == "--threshold") {
-      opt.threshold = std::atof(value().c_str());
-    } else if (a == "--fail-percent") {
-      opt.failPercent = std::atof(value().c_str());
-    } else if (a == "--frames") {
-      if (!parseFrames(value(), opt.firstFrame, opt.lastFrame)) {
-        fmt::print(stderr, "multifluid: --frames takes A-B with 0 <= A <= B, or a single frame\n");
-        return 2;
-      }
-    } else if (!a.empty() && a[0] == '-') {
-      fmt::print(stderr, "multifluid: unknown option {}\n", a);
-      usage(stderr);
-      return 2;
-    } else if (opt.command == "diff") {
-      positional.push_back(a);
-    } else if (!haveScene) {
-      opt.scene = a;
-      haveScene = true;
-    } else {
-      fmt::print(stderr, "multifluid: unexpected argument {}\n", a);
-      return 2;
-    }
+  CLI::App* validateCmd = app.add_subcommand("validate", "check a scene and print its estimates");
+  addSceneOptions(*validateCmd, opt, false);
+  validateCmd->callback([&opt] { opt.command = "validate"; });
+  CLI::App* diff = app.add_subcommand("diff", "compare two frame sequences (folders of PNG/EXR) or two images");
+  diff->add_option("A B", opt.diffPaths, "two folders (e.g. runs/x/render) or two image files")->required()->expected(2);
+  diff->add_option("--threshold", opt.threshold, "a pixel fails when a displayed channel differs by more than this")
+      ->check(CLI::Range(0.0, 1.0));
+  diff->add_option("--fail-percent", opt.failPercent, "a frame fails when more than this % of its pixels fail")
+      ->check(CLI::Range(0.0, 100.0));
+  diff->add_option("--out", opt.out, "where difference images go (default diff/)");
+  diff->callback([&opt] { opt.command = "diff"; });
+  app.add_subcommand("scenes", "list the embedded scenes")->callback([&opt] { opt.command = "scenes"; });
+
+  std::vector<const char*> cargv = {"multifluid"};
+  for (const auto& a : args) cargv.push_back(a.c_str());
+  try {
+    app.parse(int(cargv.size()), const_cast<char**>(cargv.data()));
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    fmt::print(stderr, "multifluid: {}\nRun 'multifluid --help' (or 'multifluid COMMAND --help') for usage.\n", e.what());
+    return 2;
   }
-  std::unique_ptr<tbb::global_control> threads;
-  if (opt.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
 
   try {
     if (opt.command == "scenes") {
@@ -536,21 +286,20 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (opt.command == "validate") return validate(opt);
-    if (opt.command == "diff") {
-      if (positional.size() != 2) {
-        fmt::print(stderr, "multifluid: diff takes two directories (or two image files)\n");
-        return 2;
-      }
-      opt.dirA = positional[0], opt.dirB = positional[1];
-      return diffSequences(opt);
-    }
-    return runStages(opt);
+    if (opt.command == "diff") return diffSequences(opt);
+    return runStagesCommand(opt);
+  } catch (const UsageError& e) {
+    fmt::print(stderr, "multifluid: {}\n", e.what());
+    return 2;
   } catch (const mf::SceneError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 2;
   } catch (const mf::NumericalInstability& e) {
     fmt::print(stderr, "multifluid: {}\nNo frame was written for the failed step; the last checkpoint is intact.\n", e.what());
     return 3;
+  } catch (const std::bad_alloc&) {
+    fmt::print(stderr, "multifluid: out of memory (the scene's estimate passed; lower --max-memory or the scene's resolution)\n");
+    return 1;
   } catch (const std::exception& e) {
     fmt::print(stderr, "multifluid: {}\n", e.what());
     return 1;

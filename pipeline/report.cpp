@@ -66,7 +66,8 @@ int parseOptions(const std::vector<std::string>& args, Options& opt) {
       }
       if (a == "--out") opt.out = *v;
       if (a == "--only") opt.only = splitComma(*v);
-      if (a == "--threads" && (opt.threads = std::atoi(v->c_str())) < 1) {
+      if (a == "--threads" && (v->empty() || v->find_first_not_of("0123456789") != std::string::npos || v->size() > 4 ||
+                               (opt.threads = std::stoi(*v)) < 1)) {
         fmt::print(stderr, "multifluid report: --threads must be at least 1\n");
         return 2;
       }

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "pipeline/process.h"
 #include "sim/file_util.h"
 
 namespace fs = std::filesystem;
@@ -124,7 +125,7 @@ std::string Table::markdown(const std::vector<std::string>& columns, const std::
 
 void writeText(const std::string& path, const std::string& text) { writeFileAtomically(path, text); }
 
-bool gnuplotAvailable() { return std::system("gnuplot --version > /dev/null 2>&1") == 0; }
+bool gnuplotAvailable() { return !pipeline::findOnPath("gnuplot").empty(); }
 
 bool plot(const Options& opt, const std::string& name, const std::string& script, const std::string& png) {
   const fs::path dir(opt.out);
@@ -136,8 +137,15 @@ bool plot(const Options& opt, const std::string& name, const std::string& script
     return false;
   }
   const std::string tmp = png + ".tmp";
-  const std::string cmd = fmt::format("cd '{}' && gnuplot '{}.gp' 2> '{}.gnuplot.log'", dir.string(), name, name);
-  if (std::system(cmd.c_str()) != 0 || !fs::exists(tmp) || fs::file_size(tmp) == 0) {
+  // An argument vector, no shell: the folder and names reach gnuplot as they are.
+  const fs::path log = dir / (name + ".gnuplot.log");
+  int status = -1;
+  try {
+    status = pipeline::runProgram({"gnuplot", name + ".gp"}, {dir.string(), "", log.string()});
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "report: {}\n", e.what());
+  }
+  if (status != 0 || !fs::exists(tmp) || fs::file_size(tmp) == 0) {
     fmt::print(stderr, "report: gnuplot failed on {} (see {}.gnuplot.log)\n", gp, (dir / name).string());
     return false;
   }

@@ -1,5 +1,8 @@
 #include "image.h"
 
+#include "sim/file_util.h"
+
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -32,11 +35,14 @@ std::string lowerExtension(const std::string& path) {
 
 void writeImage(const std::string& path, const Image& image) {
   const std::string ext = lowerExtension(path);
-  const fs::path target(path);
-  // The temporary keeps the extension: OpenImageIO picks the format from it.
-  const fs::path tmp = target.parent_path() / (target.stem().string() + ".tmp" + ext);
-  auto out = OIIO::ImageOutput::create(tmp.string());
+  // Encoded in memory, then written by writeFileAtomically: every write, the flush and the close
+  // are checked there, so a full disk never leaves a truncated image under its final name.
+  std::vector<unsigned char> encoded;
+  OIIO::Filesystem::IOVecOutput memory(encoded);
+  auto out = OIIO::ImageOutput::create(path);
   if (!out) throw std::runtime_error("cannot write " + path + ": " + OIIO::geterror());
+  if (!out->supports("ioproxy") || !out->set_ioproxy(&memory))
+    throw std::runtime_error("cannot write " + path + ": the " + ext + " writer cannot encode to memory");
   const size_t n = size_t(image.width) * image.height * 3;
   bool ok = false;
   if (ext == ".png") {
@@ -44,23 +50,19 @@ void writeImage(const std::string& path, const Image& image) {
     for (size_t i = 0; i < n; ++i) bytes[i] = (unsigned char)std::lround(255.0f * linearToSrgb(image.rgb[i]));
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
     spec.attribute("oiio:ColorSpace", "sRGB");
-    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
   } else {
     // Half floats: what compositors expect of beauty passes, and half the size.
     OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
     spec.attribute("oiio:ColorSpace", "Linear");
     spec.attribute("compression", "zip");
     spec.attribute("DateTime", "");  // else the current time: equal images must give equal files
-    ok = out->open(tmp.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
+    ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
   }
   const std::string error = out->geterror();
   ok = out->close() && ok;
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path + ": " + error);
-  }
-  fs::rename(tmp, target);
+  if (!ok || encoded.empty()) throw std::runtime_error("cannot encode " + path + ": " + error);
+  writeFileAtomically(path, std::string(encoded.begin(), encoded.end()));
 }
 
 Image readImage(const std::string& path) {

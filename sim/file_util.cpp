@@ -1,25 +1,43 @@
 #include "file_util.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include <cctype>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <stdexcept>
 
 #include "scene_file.h"
 
 namespace mf {
 
+std::string temporaryName(const std::string& path) { return path + ".tmp"; }
+
 void writeFileAtomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    if (!out) throw std::runtime_error("cannot write " + tmp);
+  const std::string tmp = temporaryName(path);
+  auto fail = [&](const char* what, int fd) {
+    const int err = errno;
+    if (fd >= 0) ::close(fd);
+    ::unlink(tmp.c_str());  // never leave a half-written temporary behind
+    throw std::runtime_error(fmt::format("cannot write {}: {} ({})", path, std::strerror(err), what));
+  };
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail("open", -1);
+  for (size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) fail("write", fd);
+    done += size_t(n);
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp + " to " + path);
+  // The data must be on disk before the rename makes it visible under its final name: after a
+  // crash, a final name then never points at a file that lost its tail.
+  if (::fdatasync(fd) != 0 && errno != EINVAL) fail("fdatasync", fd);
+  if (::close(fd) != 0) fail("close", -1);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("rename", -1);
 }
 
 void makeVdbUuidDeterministic(std::string& bytes) {

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -187,7 +188,14 @@ struct Scene {
   SurfacingSettings surfacing;
   RenderSettings render;
 
+  // Where each key was given (dotted path, e.g. "fluid[0].max" -> its line), and which keys
+  // came from --set: for messages about the scene as a whole (see scene_budget.h).
+  std::map<std::string, int> keyLines;
+  std::set<std::string> overriddenKeys;
+
   int lastFrame() const;  // frames 0 .. lastFrame() at t = f / frameRate
+  /// The line of `key`, else of the nearest enclosing table given, else 0.
+  int lineOf(const std::string& key) const;
   int phaseIndex(const std::string& name) const;  // -1 if absent
   const EffectSpec* effect(const std::string& name) const;
 };

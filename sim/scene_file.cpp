@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -15,7 +17,7 @@
 namespace mf {
 
 std::string SceneProblem::str() const {
-  const std::string where = line > 0 ? fmt::format("{}:{}", file, line) : fmt::format("{} (--set)", file);
+  const std::string where = fromOverride ? fmt::format("{} (--set)", file) : line > 0 ? fmt::format("{}:{}", file, line) : file;
   return key.empty() ? fmt::format("{}: {}", where, message) : fmt::format("{}: key '{}': {}", where, key, message);
 }
 
@@ -37,6 +39,27 @@ uint64_t hashText(const std::string& text) {
     h *= 1099511628211ULL;
   }
   return h;
+}
+
+int Scene::lineOf(const std::string& key) const {
+  for (std::string k = key;;) {
+    if (auto it = keyLines.find(k); it != keyLines.end()) return it->second;
+    const size_t cut = std::max(k.rfind('.'), k.rfind('[') == std::string::npos ? std::string::npos : k.rfind('['));
+    if (cut == std::string::npos || cut == 0) return 0;
+    k = k.substr(0, cut);
+  }
+}
+
+std::string checkName(const std::string& name) {
+  if (name.empty()) return "must not be empty";
+  if (name.size() > 64) return fmt::format("is {} characters long; at most 64", name.size());
+  for (unsigned char c : name)
+    if (!std::isalnum(c) && c != '_' && c != '-' && c != '.')
+      return c < 32 || c > 126 ? fmt::format("contains the byte 0x{:02x}; allowed are letters, digits, '_', '-' and '.'", c)
+                               : fmt::format("contains \"{}\"; allowed are letters, digits, '_', '-' and '.'", char(c));
+  if (!std::isalnum(static_cast<unsigned char>(name[0]))) return "must start with a letter or digit";
+  if (name.find("..") != std::string::npos) return "must not contain \"..\"";
+  return "";
 }
 
 int Scene::lastFrame() const { return int(std::floor(endTime * frameRate + 1e-9)); }
@@ -67,15 +90,26 @@ class Reader {
       : file_(std::move(file)), overridden_(std::move(overridden)) {}
 
   void problem(const toml::node* node, const std::string& key, const std::string& msg) {
-    int line = node ? int(node->source().begin.line) : 0;
-    if (overridden_.count(key)) line = 0;
-    problems.push_back({file_, line, key, msg});
+    const bool over = overridden_.count(key) > 0;
+    const int line = node && !over ? int(node->source().begin.line) : 0;
+    problems.push_back({file_, line, key, msg, over});
   }
   void problemAt(int line, const std::string& key, const std::string& msg) {
-    problems.push_back({file_, overridden_.count(key) ? 0 : line, key, msg});
+    const bool over = overridden_.count(key) > 0;
+    problems.push_back({file_, over ? 0 : line, key, msg, over});
+  }
+  void noteLine(const std::string& key, const toml::node* node) {
+    if (node && node->source().begin.line > 0 && !overridden_.count(key)) lines[key] = int(node->source().begin.line);
+  }
+  /// A name that becomes a file or folder name: checked by checkName.
+  void name(const toml::node* node, const std::string& key, const std::string& value) {
+    if (const std::string why = checkName(value); !why.empty())
+      problem(node, key, fmt::format("name \"{}\" {}", value.size() > 40 ? value.substr(0, 40) + "..." : value, why));
   }
 
   std::vector<SceneProblem> problems;
+  std::map<std::string, int> lines;
+  const std::set<std::string>& overridden() const { return overridden_; }
 
  private:
   std::string file_;
@@ -85,7 +119,9 @@ class Reader {
 /// Reads the keys of one table; reports unknown keys when done.
 class TableReader {
  public:
-  TableReader(Reader& r, const toml::table* t, std::string prefix) : r_(r), t_(t), prefix_(std::move(prefix)) {}
+  TableReader(Reader& r, const toml::table* t, std::string prefix) : r_(r), t_(t), prefix_(std::move(prefix)) {
+    if (t_ && !prefix_.empty()) r_.noteLine(prefix_, t_);
+  }
   ~TableReader() {
     if (!t_) return;
     for (auto&& [k, v] : *t_)
@@ -96,7 +132,9 @@ class TableReader {
   int line() const { return t_ ? int(t_->source().begin.line) : 0; }
   const toml::node* node(const std::string& key) {
     used_.insert(key);
-    return t_ ? t_->get(key) : nullptr;
+    const toml::node* n = t_ ? t_->get(key) : nullptr;
+    r_.noteLine(path(key), n);
+    return n;
   }
   bool has(const std::string& key) const { return t_ && t_->contains(key); }
 
@@ -225,7 +263,7 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
                    std::vector<SceneProblem>& problems, std::set<std::string>& overridden) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    problems.push_back({file, 0, assignment, "override must look like key=value, e.g. solver.cfl=0.3"});
+    problems.push_back({file, 0, assignment, "override must look like key=value, e.g. solver.cfl=0.3", true});
     return;
   }
   const std::string key = assignment.substr(0, eq);
@@ -239,6 +277,10 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
   std::vector<std::string> parts;
   std::stringstream ss(key);
   for (std::string s; std::getline(ss, s, '.');) parts.push_back(s);
+  if (parts.empty() || key.back() == '.' || std::find(parts.begin(), parts.end(), "") != parts.end()) {
+    problems.push_back({file, 0, key, "override key has an empty part; keys look like solver.cfl or phase.water.stiffness", true});
+    return;
+  }
   toml::table* t = &root;
   std::string canonical;
   for (size_t i = 0; i + 1 < parts.size(); ++i) {
@@ -256,7 +298,7 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
         }
       }
       if (!found) {
-        problems.push_back({file, 0, key, fmt::format("no [[{}]] entry with index or name '{}'", parts[i - 1], sel)});
+        problems.push_back({file, 0, key, fmt::format("no [[{}]] entry with index or name '{}'", parts[i - 1], sel), true});
         return;
       }
       t = found;
@@ -264,7 +306,7 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
     }
     if (!n) n = t->insert_or_assign(parts[i], toml::table{}).first->second.as_table();
     if (!n->is_table()) {
-      problems.push_back({file, 0, key, fmt::format("'{}' is not a table", parts[i])});
+      problems.push_back({file, 0, key, fmt::format("'{}' is not a table", parts[i]), true});
       return;
     }
     t = n->as_table();
@@ -491,6 +533,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     TableReader scene(r, top.table("scene"), "scene");
     if (!top.has("scene")) r.problemAt(1, "scene", "missing [scene] table (name, end_time, frame_rate, domain_min, domain_max)");
     sc.name = scene.text("name", "unnamed");
+    r.name(scene.node("name"), "scene.name", sc.name);
     sc.endTime = scene.number("end_time", sc.endTime, 0, 1e6, "s", true);
     sc.frameRate = scene.number("frame_rate", sc.frameRate, 0, 1e4, "frames/s", true);
     sc.domainMin = scene.vec3("domain_min", {}, -1e6, 1e6, "m", true);
@@ -505,11 +548,12 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     std::map<std::string, std::vector<std::pair<int, std::string>>> phaseKeyLines;  // effect-specific [[phase]] keys given, and where
     const auto phaseTables = top.tables("phase");
     if (phaseTables.empty()) r.problemAt(1, "phase", "at least one [[phase]] is required");
-    if (phaseTables.size() > 65535) r.problemAt(1, "phase", "at most 65535 phases");
+    if (phaseTables.size() > 64) r.problemAt(1, "phase", fmt::format("{} phases; at most 64", phaseTables.size()));
     for (size_t k = 0; k < phaseTables.size(); ++k) {
       TableReader t(r, phaseTables[k], fmt::format("phase[{}]", k));
       PhaseSpec p;
       p.name = t.text("name", fmt::format("phase{}", k), {}, true);
+      if (t.has("name")) r.name(t.node("name"), t.path("name"), p.name);
       p.restDensity = t.number("rest_density", p.restDensity, 1e-3, 1e6, "kg/m^3", false, true);
       p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, true);
       p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
@@ -529,10 +573,14 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     }
 
     const auto solidTables = top.tables("solid");
-    for (size_t k = 0; k < solidTables.size(); ++k) {
+    // Every solid is tested against every particle in each step: a few containers, not a scene
+    // built of thousands of boxes.
+    if (solidTables.size() > 100) r.problemAt(1, "solid", fmt::format("{} solids; at most 100", solidTables.size()));
+    for (size_t k = 0; k < solidTables.size() && k < 100; ++k) {
       TableReader t(r, solidTables[k], fmt::format("solid[{}]", k));
       SolidSpec s;
       s.name = t.text("name", fmt::format("solid{}", k));
+      if (t.has("name")) r.name(t.node("name"), t.path("name"), s.name);
       const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
       s.openTop = t.boolean("open_top", false);
       if (shape == "box") {
@@ -550,20 +598,23 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
         const toml::node* pn = t.node("profile");
         const toml::array* pa = pn ? pn->as_array() : nullptr;
-        bool ok = pa && pa->size() >= 2;
+        bool ok = pa && pa->size() >= 2 && pa->size() <= 1000;
         if (ok)
           for (const toml::node& e : *pa) {
             const toml::array* pt = e.as_array();
-            if (!pt || pt->size() != 2 || !pt->get(0)->value<double>() || !pt->get(1)->value<double>()) {
+            if (!pt || pt->size() != 2 || !pt->get(0)->value<double>() || !pt->get(1)->value<double>() ||
+                pt->get(0)->is_boolean() || pt->get(1)->is_boolean()) {
               ok = false;
               break;
             }
             s.profile.push_back({*pt->get(0)->value<double>(), *pt->get(1)->value<double>()});
           }
         for (size_t i = 0; ok && i < s.profile.size(); ++i)
-          ok = s.profile[i].second >= 0 && (i == 0 || s.profile[i].first > s.profile[i - 1].first);
+          ok = std::isfinite(s.profile[i].first) && std::isfinite(s.profile[i].second) && std::fabs(s.profile[i].first) <= 1e6 &&
+               s.profile[i].second >= 0 && s.profile[i].second <= 1e6 && (i == 0 || s.profile[i].first > s.profile[i - 1].first);
         if (!ok) {
-          if (pn) r.problem(pn, t.path("profile"), "expected at least 2 points [height, radius] with increasing heights and radii >= 0 (m)");
+          s.profile.clear();
+          if (pn) r.problem(pn, t.path("profile"), "expected 2 to 1000 points [height, radius] with increasing finite heights and radii in [0, 1e6] (m)");
           else r.problemAt(t.line(), t.path("profile"), "missing; at least 2 points [height, radius] (m)");
           s.profile = {{0, 1}, {1, 1}};
         }
@@ -573,7 +624,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
 
     const auto fluidTables = top.tables("fluid");
     if (fluidTables.empty()) r.problemAt(1, "fluid", "at least one [[fluid]] block is required");
-    for (size_t k = 0; k < fluidTables.size(); ++k) {
+    if (fluidTables.size() > 1000) r.problemAt(1, "fluid", fmt::format("{} fluid blocks; at most 1000", fluidTables.size()));
+    for (size_t k = 0; k < fluidTables.size() && k < 1000; ++k) {
       TableReader t(r, fluidTables[k], fmt::format("fluid[{}]", k));
       FluidBlockSpec f;
       const std::string shape = t.text("shape", "box", {"box", "sphere"});
@@ -616,6 +668,9 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
         else
           for (const toml::node& e : *pa) names.push_back(e.value<std::string>().value_or(""));
         f.fractions = t.numbers("fractions", names.size(), std::vector<Real>(names.size(), 1.0), 0, 1);
+        Real total = 0;
+        for (Real w : f.fractions) total += w;
+        if (!(total > 0)) r.problem(t.node("fractions"), t.path("fractions"), "must not all be 0 (they are the phases' shares)");
       } else {
         r.problemAt(t.line(), t.path("phase"), "missing; the name of a [[phase]] (or phases = [...] with fractions)");
       }
@@ -659,6 +714,14 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
             ParamValues values;
             const size_t entryProblems = r.problems.size();
             for (const EffectParam& p : l.params) readEffectParam(r, e, p, sc, values);
+            // Every box of every effect (sources, nozzles, sinks): min < max in each component.
+            if (r.problems.size() == entryProblems && values.params.count("min") && values.params.count("max") &&
+                values.params["min"].size() == 3 && values.params["max"].size() == 3)
+              for (int a = 0; a < 3; ++a)
+                if (!(values.params["min"][size_t(a)] < values.params["max"][size_t(a)])) {
+                  reportAt(r, e, "max", "must be greater than min in every component");
+                  break;
+                }
             if (l.check && r.problems.size() == entryProblems)  // only on values that passed their ranges
               for (const auto& [key, message] : l.check(values)) reportAt(r, e, key, message);
             entries.push_back(values);
@@ -732,20 +795,38 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     readRender(r, top, sc);
   }
   if (!r.problems.empty()) throw SceneError(r.problems);
+  sc.keyLines = std::move(r.lines);
+  sc.overriddenKeys = r.overridden();
   return sc;
 }
 
 Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides) {
-  std::ifstream in(pathOrName, std::ios::binary);
-  if (!in) {
+  const bool isPath = pathOrName.find('/') != std::string::npos ||
+                      (pathOrName.size() > 5 && pathOrName.compare(pathOrName.size() - 5, 5, ".toml") == 0);
+  if (!isPath) {
     if (const char* text = embeddedSceneText(pathOrName)) return parseScene(text, "<embedded:" + pathOrName + ">", overrides);
     std::string names;
     for (const auto& n : embeddedSceneNames()) names += (names.empty() ? "" : ", ") + n;
-    throw SceneError({{pathOrName, 0, "", fmt::format("cannot open scene file (embedded scenes: {})", names)}});
+    throw SceneError({{pathOrName, 0, "",
+                       fmt::format("no embedded scene of that name (embedded: {}); a scene file is given as a path with '/' "
+                                   "or a name ending in .toml, e.g. ./{}.toml", names, pathOrName)}});
   }
+  constexpr uintmax_t kMaxSceneBytes = 1 << 20;  // scene files are a few KiB; this is no scene
+  std::error_code ec;
+  const auto status = std::filesystem::status(pathOrName, ec);
+  if (ec || !std::filesystem::exists(status)) throw SceneError({{pathOrName, 0, "", "cannot open scene file: no such file"}});
+  if (std::filesystem::is_directory(status)) throw SceneError({{pathOrName, 0, "", "is a folder, not a scene file"}});
+  if (!std::filesystem::is_regular_file(status)) throw SceneError({{pathOrName, 0, "", "is not a regular file"}});
+  const uintmax_t size = std::filesystem::file_size(pathOrName, ec);
+  if (ec || size > kMaxSceneBytes)
+    throw SceneError({{pathOrName, 0, "", fmt::format("the file has {} bytes; a scene file may have at most {} (1 MiB)", size, kMaxSceneBytes)}});
+  std::ifstream in(pathOrName, std::ios::binary);
+  if (!in) throw SceneError({{pathOrName, 0, "", "cannot open scene file"}});
   std::stringstream ss;
   ss << in.rdbuf();
-  return parseScene(ss.str(), pathOrName, overrides);
+  const std::string text = ss.str();
+  if (text.find('\0') != std::string::npos) throw SceneError({{pathOrName, 0, "", "contains NUL bytes: not a TOML text file"}});
+  return parseScene(text, pathOrName, overrides);
 }
 
 }  // namespace mf

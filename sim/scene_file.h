@@ -12,9 +12,10 @@ namespace mf {
 
 struct SceneProblem {
   std::string file;
-  int line = 0;      // 0: the value came from a command-line override
+  int line = 0;      // 0: no line (a command-line override, or a problem of the whole file)
   std::string key;   // dotted path, e.g. "solver.cfl" or "phase[1].stiffness"
   std::string message;
+  bool fromOverride = false;  // the value came from a --set
   std::string str() const;  // "file:line: key 'k': message"
 };
 
@@ -33,13 +34,19 @@ class SceneError : public std::runtime_error {
 Scene parseScene(const std::string& text, const std::string& sourceName,
                  const std::vector<std::string>& overrides = {});
 
-/// Reads a file, or an embedded scene when `pathOrName` names one and no such file exists.
+/// A path (containing '/' or ending in ".toml") is read as a file (at most 1 MiB; a folder is
+/// refused); any other word names an embedded scene.
 Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides = {});
 
 /// Names of the scenes compiled into the program (configs/*.toml at build time).
 std::vector<std::string> embeddedSceneNames();
 /// The text of an embedded scene, or nullptr.
 const char* embeddedSceneText(const std::string& name);
+
+/// Names that become file and folder names (scene, phases, solids): 1-64 characters of letters,
+/// digits, '_', '-' and '.', starting with a letter or digit, without "..". Returns "" if `name`
+/// is fine, else what is wrong.
+std::string checkName(const std::string& name);
 
 /// Stable 64-bit hash of a string (FNV-1a), for scene identity in checkpoints.
 uint64_t hashText(const std::string& text);

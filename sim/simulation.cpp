@@ -350,12 +350,17 @@ Real Simulation::chooseDt() const {
     return lengthSquared(ps_.force[i]) / (ps_.mass[i] * ps_.mass[i]);
   }));
   Real dt = st.maxDt;
+  dtLimiter_ = "solver.max_dt";
+  auto offer = [&](Real candidate, const char* what) {
+    if (candidate < dt) dt = candidate, dtLimiter_ = what;
+  };
   const Real speed = std::sqrt(kmax) + vmax;
-  if (speed > 0) dt = std::min(dt, st.cfl * kernels_.h / speed);
-  if (amax > 0) dt = std::min(dt, st.forceFactor * std::sqrt(kernels_.h / amax));
+  if (speed > 0) offer(st.cfl * kernels_.h / speed, "the sound speed and flow speed (solver.cfl, phase stiffness)");
+  if (amax > 0) offer(st.forceFactor * std::sqrt(kernels_.h / amax), "the largest acceleration (solver.force_factor)");
   const StepContext ctx = context();
-  for (const auto& e : effects_) dt = std::min(dt, e->maxTimeStep(ctx, ps_));
-  return std::max(dt, st.minDt);
+  for (const auto& e : effects_) offer(e->maxTimeStep(ctx, ps_), e->name());
+  if (dt < st.minDt) dt = st.minDt, dtLimiter_ = "solver.min_dt";
+  return dt;
 }
 
 void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {

@@ -63,6 +63,8 @@ class Simulation {
   Real time() const { return time_; }
   uint64_t stepCount() const { return counters_.steps; }
   const SimulationCounters& counters() const { return counters_; }
+  /// What set the last step's dt: a solver key or an effect's name (for messages).
+  const char* dtLimiter() const { return dtLimiter_; }
   const StageTimes& stageTimes() const { return times_; }
   const SphKernels& kernels() const { return kernels_; }
   /// The rest-lattice gradient moment M the pressure gradient was divided by (see the constructor).
@@ -118,6 +120,7 @@ class Simulation {
   SimulationCounters counters_;
   StageTimes times_;
   Real gradientMoment_ = 1;
+  mutable const char* dtLimiter_ = "solver.max_dt";  // set by chooseDt
 };
 
 /// sum of f(i, j, k) over the integer offsets of a cubic lattice that can reach within h of

@@ -71,7 +71,11 @@ ls "$work/diffs"/*.diff.png > /dev/null 2>&1 || fail "no difference images writt
 # preview and encode alone: previews from particle files (here frames 4-9 only), and a movie
 # from them when no rendered frames exist.
 mkdir -p "$work/pv/particles"
-for f in 4 5 6 7 8 9; do cp "$work/straight/particles/particles.000$f.vdb" "$work/pv/particles/"; done
+mkdir -p "$work/pv/records"
+for f in 4 5 6 7 8 9; do
+  cp "$work/straight/particles/particles.000$f.vdb" "$work/pv/particles/"
+  cp "$work/straight/records/particles.000$f.txt" "$work/pv/records/"
+done
 "$bin" preview dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --frames 0-15 \
   --out "$work/pv" 2> "$work/preview.log" || fail "preview failed: $(cat "$work/preview.log")"
 [ -e "$work/pv/preview/preview.0005.png" ] || fail "no preview frame 5: $(cat "$work/preview.log")"

@@ -1,0 +1,163 @@
+#include "pipeline/run_folder.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+#include <xxhash.h>
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/file_util.h"
+
+namespace fs = std::filesystem;
+
+namespace mf::pipeline {
+
+RunLock::RunLock(const fs::path& dir) {
+  const fs::path file = dir / "run.lock";
+  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(fmt::format("cannot open {}: {}", file.string(), std::strerror(errno)));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int err = errno;
+    char buf[32] = {};
+    const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0);
+    std::string pid = n > 0 ? std::string(buf, size_t(n)) : std::string("unknown");
+    while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
+    ::close(fd_);
+    fd_ = -1;
+    if (err == EWOULDBLOCK)
+      throw std::runtime_error(fmt::format("{} is in use by another multifluid run (PID {}); wait for it to end or choose another --out",
+                                           dir.string(), pid));
+    throw std::runtime_error(fmt::format("cannot lock {}: {}", file.string(), std::strerror(err)));
+  }
+  const std::string pid = fmt::format("{}\n", ::getpid());
+  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != ssize_t(pid.size()))
+    throw std::runtime_error(fmt::format("cannot write {}: {}", file.string(), std::strerror(errno)));
+}
+
+RunLock::~RunLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing drops the lock; the file stays (removing it would race)
+}
+
+int removeStaleTemporaries(const fs::path& dir) {
+  int removed = 0;
+  std::error_code ec;
+  for (const char* sub : {"", "particles", "surface", "mesh", "render", "preview", "records"}) {
+    const fs::path d = dir / sub;
+    if (!fs::is_directory(d, ec)) continue;
+    for (const auto& e : fs::directory_iterator(d, ec)) {
+      const std::string name = e.path().filename().string();
+      if (e.is_regular_file(ec) && name.find(".tmp") != std::string::npos && fs::remove(e.path(), ec)) ++removed;
+    }
+  }
+  return removed;
+}
+
+FileDigest digestFile(const fs::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
+  XXH3_state_t* state = XXH3_createState();
+  XXH3_64bits_reset(state);
+  FileDigest d{name, 0, 0};
+  std::vector<char> buf(1 << 20);
+  while (in) {
+    in.read(buf.data(), std::streamsize(buf.size()));
+    const std::streamsize got = in.gcount();
+    if (got <= 0) break;
+    XXH3_64bits_update(state, buf.data(), size_t(got));
+    d.size += uint64_t(got);
+  }
+  const bool bad = in.bad();
+  d.hash = XXH3_64bits_digest(state);
+  XXH3_freeState(state);
+  if (bad) throw std::runtime_error(file.string() + ": read error");
+  return d;
+}
+
+fs::path FrameRecords::recordFile(const std::string& stage, int frame) const {
+  return dir_ / "records" / fmt::format("{}.{:04d}.txt", stage, frame);
+}
+
+namespace {
+constexpr const char* kHeader = "multifluid completion record 1";
+
+bool readRecord(const fs::path& file, std::vector<FileDigest>& out) {
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != kHeader) return false;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    FileDigest d;
+    std::string hash;
+    if (!(ls >> hash >> d.size) || hash.size() != 16) return false;
+    std::getline(ls >> std::ws, d.name);
+    if (d.name.empty() || d.name.find("..") != std::string::npos || d.name.front() == '/') return false;
+    if (std::from_chars(hash.data(), hash.data() + 16, d.hash, 16).ptr != hash.data() + 16) return false;
+    out.push_back(d);
+  }
+  return !out.empty();
+}
+}  // namespace
+
+bool FrameRecords::verify(const std::string& stage, int frame, std::string* why) const {
+  const fs::path rec = recordFile(stage, frame);
+  std::vector<FileDigest> listed;
+  std::error_code ec;
+  if (!fs::exists(rec, ec)) {
+    if (why) *why = "no completion record " + rec.string();
+    return false;
+  }
+  if (!readRecord(rec, listed)) {
+    if (why) *why = "unreadable completion record " + rec.string();
+    return false;
+  }
+  for (const FileDigest& d : listed) {
+    const fs::path file = dir_ / d.name;
+    if (!fs::is_regular_file(file, ec)) {
+      if (why) *why = file.string() + " is missing";
+      return false;
+    }
+    if (fs::file_size(file, ec) != d.size) {
+      if (why) *why = fmt::format("{} has {} bytes; its record says {}", file.string(), fs::file_size(file, ec), d.size);
+      return false;
+    }
+    if (digestFile(file, d.name).hash != d.hash) {
+      if (why) *why = file.string() + " does not match the hash in its record (damaged)";
+      return false;
+    }
+  }
+  return true;
+}
+
+void FrameRecords::write(const std::string& stage, int frame, const std::vector<fs::path>& files) const {
+  std::string text = std::string(kHeader) + "\n";
+  for (const fs::path& f : files) {
+    const std::string name = fs::relative(f, dir_).generic_string();
+    const FileDigest d = digestFile(f, name);
+    text += fmt::format("{:016x} {} {}\n", d.hash, d.size, d.name);
+  }
+  fs::create_directories(dir_ / "records");
+  writeFileAtomically(recordFile(stage, frame).string(), text);
+}
+
+void FrameRecords::remove(const std::string& stage, int frame) const {
+  std::error_code ec;
+  fs::remove(recordFile(stage, frame), ec);
+}
+
+std::vector<fs::path> FrameRecords::files(const std::string& stage, int frame) const {
+  std::vector<FileDigest> listed;
+  std::vector<fs::path> out;
+  if (readRecord(recordFile(stage, frame), listed))
+    for (const auto& d : listed) out.push_back(dir_ / d.name);
+  return out;
+}
+
+}  // namespace mf::pipeline
