@@ -330,7 +330,7 @@ std::string framesPresent(const StageOptions& opt, const Scene& scene, const Fra
                          Stage{"preview", opt.preview}}) {
     int n = 0;
     for (int f = opt.firstFrame; f <= lastFrame; ++f) n += records.verify(s.name, f) ? 1 : 0;
-    line += fmt::format(" {} {}/{}", s.name, n, wanted);
+    if (s.ran || n > 0) line += fmt::format(" {} {}/{}", s.name, n, wanted);
     if (s.ran && n < wanted) warnings += fmt::format("  warning: only {} of {} {} frames are finished\n", n, wanted, s.name);
   }
   return line + "\n";
