@@ -55,10 +55,11 @@ bool names(const std::vector<mf::SceneProblem>& ps, const std::string& key) {
 TEST(SceneBudget, TheShippedShapeOfSceneIsAcceptedAndItsCountIsTheSeedingLattice) {
   const mf::Scene sc = mf::parseScene(kScene, "b.toml");
   const mf::SceneBudget b = mf::checkSceneBudget(sc);
-  // The block is 8 x 7 x 8 lattice points, all inside the 0.3 m glass but the corners beyond
-  // its radius: the count must be below 448 and above the inscribed cylinder's share (pi/4).
-  EXPECT_LT(b.particles, 448);
-  EXPECT_GT(b.particles, 448 * 0.7);
+  EXPECT_EQ(b.particles, 8 * 7 * 8);  // the block's lattice, all of it inside the glass
+  // A block wider than the glass: of its 12 x 12 columns, those within the 0.3 m radius
+  // (counted by hand from the lattice x = 0.225 + 0.05 i: 112 columns), 7 layers each.
+  const mf::Scene wide = mf::parseScene(kScene, "b.toml", {"fluid.0.min=[0.2, 0.05, 0.2]", "fluid.0.max=[0.8, 0.4, 0.8]"});
+  EXPECT_EQ(mf::checkSceneBudget(wide).particles, 112 * 7);
   EXPECT_GT(b.boundarySamples, 0);
   // Here solver.max_dt (1 ms) is below the sound-speed limit (cfl 0.4 * h 0.1 m / c 31.6 m/s =
   // 1.26 ms): 33.3 steps per 1/30 s frame. With k = 1e4, c = 100 m/s: 0.4 ms, 83.3 steps.
