@@ -11,6 +11,7 @@ void ParticleSet::enable(AttributeMask mask) {
   if (has(Attribute::SurfaceColour)) surfaceColour.resize(n, 1);
   if (has(Attribute::Temperature)) temperature.resize(n, 0);
   if (has(Attribute::Dye)) dye.resize(n, 0);
+  if (has(Attribute::DivergencePressure)) divergencePressure.resize(n, 0);
 }
 
 void ParticleSet::reserve(size_t n) {
@@ -34,6 +35,8 @@ void ParticleSet::append(uint64_t newId, const ParticleInit& p) {
   if (has(Attribute::SurfaceColour)) surfaceColour.push_back(p.surfaceColour);
   if (has(Attribute::Temperature)) temperature.push_back(p.temperature);
   if (has(Attribute::Dye)) dye.push_back(p.dye);
+  // A newborn particle starts without pressure; the solves build it within the step.
+  if (has(Attribute::DivergencePressure)) divergencePressure.push_back(0);
 }
 
 void ParticleSet::permute(const std::vector<uint32_t>& order) {

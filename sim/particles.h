@@ -18,6 +18,7 @@ enum class Attribute : uint32_t {
   SurfaceColour = 1u << 1,    // c_s, liquid = 1, gas = 0 (surface tension)
   Temperature = 1u << 2,      // T in degrees Celsius
   Dye = 1u << 3,              // a passive concentration (dimensionless) that can diffuse
+  DivergencePressure = 1u << 4,  // the divergence solve's pressure (DFSPH warm start)
 };
 using AttributeMask = uint32_t;
 constexpr AttributeMask bit(Attribute a) { return static_cast<AttributeMask>(a); }
@@ -49,6 +50,7 @@ struct ParticleSet {
   std::vector<Real> surfaceColour;
   std::vector<Real> temperature;
   std::vector<Real> dye;
+  std::vector<Real> divergencePressure;  // Pa (solver.pressure = "dfsph")
 
   AttributeMask attributes = 0;
 
@@ -84,6 +86,7 @@ struct ParticleSet {
     if (has(Attribute::SurfaceColour)) f("surfaceColour", surfaceColour);
     if (has(Attribute::Temperature)) f("temperature", temperature);
     if (has(Attribute::Dye)) f("dye", dye);
+    if (has(Attribute::DivergencePressure)) f("divergencePressure", divergencePressure);
   }
 
   /// Bytes held by all arrays (capacity), for memory reports and tests.

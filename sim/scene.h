@@ -71,7 +71,16 @@ enum class DensityFormulation {
   Number,  // rho_i = m_i sum_j W_ij (Solenthaler & Pajarola 2008): sharp at density jumps
 };
 
+enum class PressureSolverChoice {
+  WCSPH,  // state equation P = k (rho - rho0) and the pressure effect's force (Mueller et al. 2005)
+  DFSPH,  // implicit, divergence-free and constant-density solves (sim/pressure/dfsph.h)
+};
+
 struct SolverSettings {
+  PressureSolverChoice pressure = PressureSolverChoice::WCSPH;
+  // DFSPH: stop at this mean relative density error, and mean divergence error per step.
+  Real densityTolerance = 5e-4, divergenceTolerance = 1e-3;
+  int maxPressureIterations = 100;
   Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid
   Real smoothingRatio = 2.0;        // h / spacing; 2 gives about 33 neighbours
   DensityFormulation density = DensityFormulation::Mass;
@@ -81,7 +90,7 @@ struct SolverSettings {
   // kernel that a plane free surface would cut off (HalfSpaceMissing, kernels.h), so that the
   // surface layer is at rest density on the lattice and resists packing (see simulation.cpp).
   bool freeSurfaceCompletion = false;
-  Real cfl = 0.4;                   // dt <= cfl h / (c_max + v_max)
+  Real cfl = 0.4;                   // WCSPH: dt <= cfl h / (c_max + v_max); DFSPH: dt <= cfl spacing / v_max
   Real forceFactor = 0.25;          // dt <= forceFactor sqrt(h / a_max)
   Real maxDt = 1e-3, minDt = 1e-8;  // s
   Real boundarySpacingRatio = 0.5;  // boundary sample spacing / particle spacing

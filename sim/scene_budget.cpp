@@ -159,7 +159,7 @@ TimeStepLimit restTimeStep(const Scene& sc) {
   t.offer(sc.solver.maxDt, "solver.max_dt", "solver.max_dt");
   for (size_t p = 0; p < sc.phases.size(); ++p) {
     const PhaseSpec& ph = sc.phases[p];
-    if (ph.stiffness > 0)
+    if (sc.solver.pressure == PressureSolverChoice::WCSPH && ph.stiffness > 0)
       t.offer(sc.solver.cfl * h / std::sqrt(ph.stiffness), fmt::format("the sound speed of phase \"{}\"", ph.name),
               fmt::format("phase[{}].stiffness", p));
     if (const EffectSpec* v = sc.effect("viscosity"); v && ph.viscosity > 0)

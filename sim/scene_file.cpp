@@ -316,6 +316,10 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
 }
 
 void readSolver(TableReader& s, SolverSettings& o) {
+  o.pressure = s.text("pressure", "wcsph", {"wcsph", "dfsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
+  o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
+  o.divergenceTolerance = s.number("divergence_tolerance", o.divergenceTolerance, 1e-6, 0.1, "(relative, per step)", false);
+  o.maxPressureIterations = int(s.number("max_pressure_iterations", o.maxPressureIterations, 2, 10000));
   o.particleSpacing = s.number("particle_spacing", o.particleSpacing, 1e-5, 10, "m", true, true);
   o.smoothingRatio = s.number("smoothing_ratio", o.smoothingRatio, 1.2, 4.0);
   o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number
@@ -555,7 +559,9 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       p.name = t.text("name", fmt::format("phase{}", k), {}, true);
       if (t.has("name")) r.name(t.node("name"), t.path("name"), p.name);
       p.restDensity = t.number("rest_density", p.restDensity, 1e-3, 1e6, "kg/m^3", false, true);
-      p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, true);
+      // Only the weakly compressible solver has a stiffness; DFSPH's pressure is implicit.
+      const bool wcsph = sc.solver.pressure == PressureSolverChoice::WCSPH;
+      p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, wcsph);
       p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
       p.particleMass = t.number("particle_mass", p.particleMass, 0, 1e6, "kg (0 = from rest density and spacing)");
       p.interfaceColour = t.number("interface_colour", p.interfaceColour, -10, 10);

@@ -1,5 +1,7 @@
 #include "simulation.h"
 
+#include "pressure/dfsph.h"
+
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -12,6 +14,7 @@
 #include <fstream>
 #include <limits>
 
+#include "parallel_util.h"
 #include "scene_file.h"
 #include "solids.h"
 
@@ -28,37 +31,6 @@ uint64_t splitmix(uint64_t x) {
   return x ^ (x >> 31);
 }
 Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 9007199254740992.0); }
-
-constexpr size_t kGrain = 1024;
-
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// Smallest i < n with pred(i), or -1: the same answer on any thread count.
-template <class F>
-int64_t firstIndexWhere(size_t n, F&& pred) {
-  const int64_t none = std::numeric_limits<int64_t>::max();
-  const int64_t first = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, n, kGrain), none,
-      [&](const tbb::blocked_range<size_t>& r, int64_t best) {
-        for (size_t i = r.begin(); i != r.end() && int64_t(i) < best; ++i)
-          if (pred(i)) return int64_t(i);
-        return best;
-      },
-      [](int64_t a, int64_t b) { return std::min(a, b); });
-  return first == none ? -1 : first;
-}
-
-template <class F>
-Real parallelMax(size_t n, F&& value) {
-  return tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, n, kGrain), Real(0),
-      [&](const tbb::blocked_range<size_t>& r, Real m) {
-        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, value(i));
-        return m;
-      },
-      [](Real a, Real b) { return std::max(a, b); });
-}
 
 }  // namespace
 
@@ -146,10 +118,21 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   if (boundary_.size() > 0) boundaryGrid_.build(boundary_.position.data(), boundary_.size(), gridOrigin_, kernels_.h);
 
   AttributeMask attributes = 0;
+  const bool implicit = st.pressure == PressureSolverChoice::DFSPH;
   for (const EffectSpec& spec : scene_.effects) {
     const EffectInfo* info = findEffect(spec.name);
     if (!info) throw std::invalid_argument("unknown effect " + spec.name);
+    // The implicit solver is the pressure force itself: the explicit one is left out.
+    if (implicit && spec.name == "pressure") continue;
     effects_.push_back(info->create(spec, scene_));
+  }
+  if (implicit) {
+    DfsphSettings ds;
+    ds.densityTolerance = st.densityTolerance;
+    ds.divergenceTolerance = st.divergenceTolerance;
+    ds.maxIterations = st.maxPressureIterations;
+    dfsph_ = std::make_unique<DfsphSolver>(ds);
+    attributes |= bit(Attribute::DivergencePressure);
   }
   // Keep the registry's order, whatever the order in the file (fixed order = same rounding).
   std::stable_sort(effects_.begin(), effects_.end(), [](const auto& a, const auto& b) {
@@ -315,6 +298,7 @@ void Simulation::searchAndDensity() {
       }
     }
   });
+  if (dfsph_) dfsph_->computeDiagonal(context(), ps_);
   times_.density += since(t1);
 }
 
@@ -354,13 +338,38 @@ Real Simulation::chooseDt() const {
   auto offer = [&](Real candidate, const char* what) {
     if (candidate < dt) dt = candidate, dtLimiter_ = what;
   };
-  const Real speed = std::sqrt(kmax) + vmax;
-  if (speed > 0) offer(st.cfl * kernels_.h / speed, "the sound speed and flow speed (solver.cfl, phase stiffness)");
+  if (dfsph_) {
+    // Implicit pressure: the flow sets the step (CFL on the particle spacing), not sound.
+    if (vmax > 0) offer(st.cfl * st.particleSpacing / vmax, "the flow speed (solver.cfl)");
+  } else {
+    const Real speed = std::sqrt(kmax) + vmax;
+    if (speed > 0) offer(st.cfl * kernels_.h / speed, "the sound speed and flow speed (solver.cfl, phase stiffness)");
+  }
   if (amax > 0) offer(st.forceFactor * std::sqrt(kernels_.h / amax), "the largest acceleration (solver.force_factor)");
   const StepContext ctx = context();
   for (const auto& e : effects_) offer(e->maxTimeStep(ctx, ps_), e->name());
   if (dt < st.minDt) dt = st.minDt, dtLimiter_ = "solver.min_dt";
   return dt;
+}
+
+void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
+  const auto t0 = Clock::now();
+  std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
+  const Real onWallTolerance = 0.1 * scene_.solver.particleSpacing;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    uint64_t clamps = 0;
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Vec3 v = ps_.velocity[i];
+      Vec3 x = x0[i] + v * dt;
+      for (const SolidSpec& s : scene_.solids)
+        if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance)) clamps += clampToFluidRegion(s, x, v);
+      ps_.velocity[i] = v;
+      ps_.position[i] = x;
+    }
+    clampsPerBlock[r.begin() / kGrain] += clamps;
+  });
+  for (uint64_t c : clampsPerBlock) counters_.wallClamps += c;
+  times_.integrate += since(t0);
 }
 
 void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
@@ -501,32 +510,7 @@ Real Simulation::step(Real maxDt) {
     searchAndDensity();
   }
   checkInputs();
-  computePressure();
-  accumulateForces();
-  Real dt = std::min(chooseDt(), maxDt);
-
-  savedPosition_ = ps_.position;
-  savedVelocity_ = ps_.velocity;
-  for (int attempt = 0;; ++attempt) {
-    integrate(dt, savedPosition_, savedVelocity_);
-    searchAndDensity();
-    std::string why, parameter;
-    const int64_t bad = findInvalidParticle(dt, why, parameter);
-    if (bad < 0) break;
-    const uint64_t badId = ps_.id[bad];
-    const std::string phaseName = scene_.phases[ps_.phase[bad]].name;
-    ps_.position = savedPosition_;
-    ps_.velocity = savedVelocity_;
-    searchAndDensity();
-    if (attempt >= st.maxRetries || dt * 0.5 < st.minDt) {
-      throw NumericalInstability(fmt::format(
-          "simulation unstable at step {} (t = {:.6g} s, dt = {:.3g} s after {} retries): particle id {} of phase \"{}\" {}. "
-          "Parameter most likely at fault: {}.",
-          counters_.steps, time_, dt, attempt, badId, phaseName, why, parameter));
-    }
-    dt *= 0.5;
-    ++counters_.retries;
-  }
+  const Real dt = dfsph_ ? stepDfsph(maxDt) : stepWcsph(maxDt);
   // Non-mechanical state (temperature, dye, rest density) from the rates of the step's start.
   {
     const StepContext ctx = context();
@@ -544,6 +528,38 @@ Real Simulation::step(Real maxDt) {
   }));
   editParticles();
   return dt;
+}
+
+Real Simulation::stepWcsph(Real maxDt) {
+  computePressure();
+  accumulateForces();
+  Real dt = std::min(chooseDt(), maxDt);
+  savedPosition_ = ps_.position;
+  savedVelocity_ = ps_.velocity;
+  for (int attempt = 0;; ++attempt) {
+    integrate(dt, savedPosition_, savedVelocity_);
+    searchAndDensity();
+    std::string why, parameter;
+    const int64_t bad = findInvalidParticle(dt, why, parameter);
+    if (bad < 0) return dt;
+    retryOrStop(attempt, dt, bad, why, parameter);
+    dt *= 0.5;
+  }
+}
+
+void Simulation::retryOrStop(int attempt, Real dt, int64_t bad, const std::string& why, const std::string& parameter) {
+  const uint64_t badId = bad >= 0 ? ps_.id[size_t(bad)] : 0;
+  const std::string phaseName = bad >= 0 ? scene_.phases[ps_.phase[size_t(bad)]].name : "";
+  ps_.position = savedPosition_;
+  ps_.velocity = savedVelocity_;
+  searchAndDensity();
+  if (attempt >= scene_.solver.maxRetries || dt * 0.5 < scene_.solver.minDt) {
+    const std::string who = bad >= 0 ? fmt::format("particle id {} of phase \"{}\" {}", badId, phaseName, why) : why;
+    throw NumericalInstability(fmt::format(
+        "simulation unstable at step {} (t = {:.6g} s, dt = {:.3g} s after {} retries): {}. Parameter most likely at fault: {}.",
+        counters_.steps, time_, dt, attempt, who, parameter));
+  }
+  ++counters_.retries;
 }
 
 void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>& afterStep) {

@@ -35,6 +35,10 @@ struct SimulationCounters {
   uint64_t removedByEffects = 0;   // particles removed by effects (sinks, air deletion, vapour leaving)
   Real lastDt = 0;
   Real maxDensityError = 0;        // largest (rho - rho0)/rho0 seen after any accepted step
+  // DFSPH (solver.pressure = "dfsph"): Jacobi iterations of the two solves, summed over steps,
+  // and the last step's mean errors after them.
+  uint64_t pressureIterations = 0, divergenceIterations = 0;
+  Real lastDensityError = 0, lastDivergenceError = 0;
 };
 
 /// Wall-clock seconds spent in each part of the step (not part of the checkpointed state).
@@ -43,8 +47,11 @@ struct StageTimes {
   double density = 0;         // density, volume and state equation
   std::vector<double> effect; // per enabled effect, in effects() order: forces, advance, edits
   double integrate = 0;       // dt choice, integration, wall clamp, watchdog checks
+  double pressure = 0;        // the implicit pressure solves (DFSPH)
   double edits = 0;           // applying births and removals: compaction, appends, new search
 };
+
+class DfsphSolver;
 
 class Simulation {
  public:
@@ -96,6 +103,14 @@ class Simulation {
   void accumulateForces();
   Real chooseDt() const;
   void integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0);
+  /// x = x0 + dt v with the container clamp (the position half of integrate).
+  void advect(Real dt, const std::vector<Vec3>& x0);
+  /// The motion of one step, by the chosen pressure solver; returns the dt taken.
+  Real stepWcsph(Real maxDt);
+  Real stepDfsph(Real maxDt);  // Bender & Koschier 2017, Algorithm 1 (simulation_dfsph.cpp)
+  /// A watchdog failure: restores the step's start and returns (the caller halves dt), or
+  /// throws NumericalInstability naming the particle (bad >= 0), the step and the parameter.
+  void retryOrStop(int attempt, Real dt, int64_t bad, const std::string& why, const std::string& parameter);
   /// Index of the first particle that breaks a watchdog rule, or -1; fills `why`.
   int64_t findInvalidParticle(Real dt, std::string& why, std::string& parameter) const;
   void removeOutOfDomain();
@@ -121,6 +136,7 @@ class Simulation {
   StageTimes times_;
   Real gradientMoment_ = 1;
   mutable const char* dtLimiter_ = "solver.max_dt";  // set by chooseDt
+  std::unique_ptr<DfsphSolver> dfsph_;                // solver.pressure = "dfsph" only
 };
 
 /// sum of f(i, j, k) over the integer offsets of a cubic lattice that can reach within h of

@@ -1,0 +1,75 @@
+// Divergence-free SPH (Bender & Koschier 2015, 2017) for several fluids at once: an implicit
+// pressure that keeps every particle at its own rest density, whatever the density ratio.
+//
+// The constraint is the density contrast form (Solenthaler & Pajarola 2008; SPlisHSPlasH's
+// multiphase): theta_i = rho_i / rho0_i = sum_j V_j W_ij + sum_b V_b W_ib = 1, with V_j = m_j /
+// rho0_j the rest volumes and V_b the Akinci volumes of the wall samples. A light particle next
+// to a heavy one sees the heavy one's volume, not its mass, so interfaces stay sharp at 1:1000.
+// The pressure acceleration is the antisymmetric pair form
+//   a_i = -(1/rho0_i) [ sum_j V_j (p_i + p_j) grad W_ij + sum_b V_b p_i grad W_ib ]
+// (walls carry the particle's own pressure, as in SPlisHSPlasH's DFSPH), so F_i = m_i a_i
+// conserves momentum between fluid particles. Its diagonal, with all other pressures zero,
+// gives the Jacobi step of both solves:
+//   D_i = |sum_j V_j grad W_ij + sum_b V_b grad W_ib|^2 / rho0_i + V_i sum_j V_j |grad W_ij|^2 / rho0_j
+//   constant density:  p_i += (theta*_i - 1) / (dt^2 D_i),  theta*_i = theta_i + dt d(theta_i)/dt
+//   divergence-free:   p_i += d(theta_i)/dt / (dt D_i)
+// grad W is the pressure force's gradient (lattice-normalised, sim/kernels.h), in the force and in
+// d(theta)/dt alike, so that the two operators are adjoint and a linear pressure field balances
+// gravity exactly on the lattice. Each pressure is kept >= 0 (a free surface pulls nothing). Both solves start from the last
+// step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
+// them), iterate at least twice, and stop when the mean density error is below
+// `density_tolerance` (relative) and the mean divergence error times dt below
+// `divergence_tolerance`. Sums over particles run in fixed blocks, so the bits do not depend on
+// the number of threads.
+#pragma once
+
+#include <string>
+
+#include "sim/effect.h"
+#include "sim/particles.h"
+
+namespace mf {
+
+struct DfsphSettings {
+  Real densityTolerance = 5e-4;     // mean (theta* - 1), relative: 0.05 %
+  Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
+  int maxIterations = 100;
+  int minIterations = 2;
+};
+
+struct PressureSolveStats {
+  int iterations = 0;
+  Real meanError = 0;  // relative density (or divergence x dt) error at the end
+  Real maxError = 0;
+  bool converged = true;
+};
+
+class DfsphSolver {
+ public:
+  explicit DfsphSolver(const DfsphSettings& settings) : settings_(settings) {}
+
+  /// D_i of the current positions; call after every neighbour search and density pass.
+  void computeDiagonal(const StepContext& ctx, const ParticleSet& ps);
+  /// Corrects the predicted velocities ps.velocity so that positions advanced by dt are at rest
+  /// density; the pressure used stays in ps.pressure (Pa).
+  PressureSolveStats solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt);
+  /// Corrects ps.velocity so that the density does not change (d theta / dt = 0) where the fluid
+  /// is at rest density; its pressure is kept in ps.divergencePressure.
+  PressureSolveStats solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt);
+
+  const DfsphSettings& settings() const { return settings_; }
+
+ private:
+  /// d theta_i / dt of the current velocities (fluid pairs and walls).
+  void densityRate(const StepContext& ctx, const ParticleSet& ps);
+  /// v_i -= dt a_i for the pressure field `p` (the acceleration above).
+  void applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt);
+  /// Sum over particles in fixed blocks (thread-count independent bits).
+  template <class F>
+  Real blockSum(size_t n, F&& f) const;
+
+  DfsphSettings settings_;
+  std::vector<Real> diagonal_, rate_, delta_;
+};
+
+}  // namespace mf
