@@ -107,6 +107,7 @@ bool readRecord(const fs::path& file, std::vector<FileDigest>& out) {
 }  // namespace
 
 bool FrameRecords::verify(const std::string& stage, int frame, std::string* why) const {
+  if (const auto it = verified_.find({stage, frame}); it != verified_.end() && it->second) return true;
   const fs::path rec = recordFile(stage, frame);
   std::vector<FileDigest> listed;
   std::error_code ec;
@@ -133,6 +134,7 @@ bool FrameRecords::verify(const std::string& stage, int frame, std::string* why)
       return false;
     }
   }
+  verified_[{stage, frame}] = true;
   return true;
 }
 
@@ -145,9 +147,11 @@ void FrameRecords::write(const std::string& stage, int frame, const std::vector<
   }
   fs::create_directories(dir_ / "records");
   writeFileAtomically(recordFile(stage, frame).string(), text);
+  verified_[{stage, frame}] = true;
 }
 
 void FrameRecords::remove(const std::string& stage, int frame) const {
+  verified_.erase({stage, frame});
   std::error_code ec;
   fs::remove(recordFile(stage, frame), ec);
 }

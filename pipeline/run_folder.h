@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ struct FileDigest {
 FileDigest digestFile(const std::filesystem::path& file, const std::string& name);
 
 /// The records of one run folder: DIR/records/<stage>.NNNN.txt, one line per output file.
+/// Verified frames are remembered for the life of the object (the run holds the folder's lock,
+/// so nothing else changes them): the summary does not hash every file a second time.
 class FrameRecords {
  public:
   explicit FrameRecords(std::filesystem::path dir) : dir_(std::move(dir)) {}
@@ -54,6 +57,7 @@ class FrameRecords {
 
  private:
   std::filesystem::path dir_;
+  mutable std::map<std::pair<std::string, int>, bool> verified_;
 };
 
 }  // namespace mf::pipeline

@@ -66,6 +66,7 @@ PreviewResult renderPreview(const std::string& particleFile, const Scene& scene,
   }
   const auto t0 = std::chrono::steady_clock::now();
   const ParticleFrame frame = readParticleFrame(particleFile);
+  checkFrameMatchesScene(particleFile, frame.info, scene);
   const RenderSettings& rs = scene.render;
   const int w = rs.width, h = rs.height;
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);

@@ -17,7 +17,8 @@ struct PreviewResult {
   double seconds = 0;
 };
 
-/// Draws `particleFile` with the scene's render camera into `pngPath` (skipped if it exists).
+/// Draws `particleFile` with the scene's render camera into `pngPath` (skipped if it exists). The
+/// file is refused, naming it, if damaged or written by a scene with other phases or spacing.
 /// Temperature colours run blue (coldest) to red (hottest) over [tMin, tMax] deg C.
 PreviewResult renderPreview(const std::string& particleFile, const Scene& scene, const std::string& pngPath,
                             PreviewColour colour = PreviewColour::Phase, double tMin = 0, double tMax = 100);

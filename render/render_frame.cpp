@@ -1,16 +1,65 @@
 #include "render_frame.h"
 
-#include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
+#include <openvdb/openvdb.h>
 
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
 #include "path_tracer.h"
+#include "sim/vdb_file.h"
 
 namespace fs = std::filesystem;
 
 namespace mf::render {
+
+namespace {
+
+struct BadSurface : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The level set of each phase in scene.render.phases, checked: a FloatGrid level set of that
+// name with uniform, finite voxels. Every failure names the file.
+std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> readLevelSets(const std::string& path, const Scene& scene) {
+  const std::string bytes = readSealedVdbFile(path, "surface file", "delete it and run the surface stage again");
+  std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> out;
+  try {
+    MemoryInput buffer(bytes.data(), bytes.size());
+    std::istream in(&buffer);
+    // Not io::File: with delayed loading it copies files to TMPDIR (OPENVDB_TEMP_DIR), and the
+    // bytes parsed are the ones whose checksum was checked.
+    openvdb::io::Stream stream(in, /*delayLoad=*/false);
+    const openvdb::GridPtrVecPtr grids = stream.getGrids();
+    for (uint16_t p : scene.render.phases) {
+      const std::string& name = scene.phases[p].name;
+      openvdb::GridBase::Ptr found;
+      for (const auto& g : *grids)
+        if (g && g->getName() == name) found = g;
+      if (!found) throw BadSurface("no level set \"" + name + "\" (is it in surfacing.phases?)");
+      auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(found);
+      if (!grid) throw BadSurface("grid \"" + name + "\" is a " + found->type() + ", not a float grid");
+      if (grid->getGridClass() != openvdb::GRID_LEVEL_SET) throw BadSurface("grid \"" + name + "\" is not a level set");
+      const double voxel = grid->voxelSize()[0];
+      if (!grid->hasUniformVoxels() || !std::isfinite(voxel) || !(voxel > 0))
+        throw BadSurface("grid \"" + name + "\" has no uniform, finite voxel size");
+      out.emplace_back(p, grid);
+    }
+  } catch (const BadSurface& e) {
+    throw std::runtime_error(path + ": " + e.what());
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error(path + ": not a readable surface file (out of memory while reading it)");
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": not a readable surface file (" + shortErrorText(e.what()) + ")");
+  } catch (...) {
+    throw std::runtime_error(path + ": not a readable surface file (unknown error)");
+  }
+  return out;
+}
+
+}  // namespace
 
 RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
                               const std::string& pngPath, int frame, const std::function<void(int, int)>& progress) {
@@ -22,22 +71,12 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   const auto t0 = std::chrono::steady_clock::now();
   openvdb::initialize();
   std::vector<Surface> surfaces;
-  {
-    openvdb::io::File file(surfaceFile);
-    file.open(false);  // grids are modified below: no delayed loading
-    for (uint16_t p : scene.render.phases) {
-      const std::string& name = scene.phases[p].name;
-      if (!file.hasGrid(name))
-        throw std::runtime_error(surfaceFile + " has no level set \"" + name + "\" (is it in surfacing.phases?)");
-      auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
-      if (!grid) throw std::runtime_error(surfaceFile + ": grid \"" + name + "\" is not a float grid");
-      // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
-      // voxel size), which would render as films of air.
-      wetContainerWalls(*grid, scene.solids, 2.0 * grid->voxelSize()[0]);
-      RenderMesh mesh = levelSetMesh(*grid);
-      if (mesh.size() > 0) surfaces.push_back({name, std::move(mesh), scene.render.phaseMaterials[p]});
-    }
-    file.close();
+  for (auto& [p, grid] : readLevelSets(surfaceFile, scene)) {
+    // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
+    // voxel size), which would render as films of air.
+    wetContainerWalls(*grid, scene.solids, 2.0 * grid->voxelSize()[0]);
+    RenderMesh mesh = levelSetMesh(*grid);
+    if (mesh.size() > 0) surfaces.push_back({scene.phases[p].name, std::move(mesh), scene.render.phaseMaterials[p]});
   }
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
   PathTracer tracer(std::move(surfaces), scene.render);

@@ -18,8 +18,9 @@ struct RenderFrameResult {
 };
 
 /// Renders frame `frame` of `scene` from `surfaceFile` into `exrPath` and `pngPath` (either may
-/// be empty). Phases in scene.render.phases must be in the file. `progress(done, total)` reports
-/// rows.
+/// be empty). Each phase in scene.render.phases must be a level set in the file, and the file
+/// must pass its checksum; else a std::runtime_error naming the file. `progress(done, total)`
+/// reports rows.
 RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
                               const std::string& pngPath, int frame,
                               const std::function<void(int, int)>& progress = {});

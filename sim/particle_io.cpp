@@ -1,6 +1,7 @@
 #include "particle_io.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/points/PointAttribute.h>
@@ -16,6 +17,7 @@
 
 #include "file_util.h"
 #include "scene_file.h"
+#include "vdb_file.h"
 
 namespace mf {
 
@@ -86,40 +88,92 @@ void writeParticleFrame(const std::string& path, const ParticleSet& ps, const Fr
   for (const auto& p : info.phaseNames) names += (names.empty() ? "" : ",") + p;
   grid->insertMeta("phase_names", openvdb::StringMetadata(names));
 
+  openvdb::MetaMap fileMeta;
+  fileMeta.insertMeta(kVdbChecksumKey, openvdb::StringMetadata(vdbChecksumPlaceholder()));
   std::ostringstream os(std::ios::binary);
-  openvdb::io::Stream(os).write(openvdb::GridPtrVec{grid});
+  openvdb::io::Stream(os).write(openvdb::GridPtrVec{grid}, fileMeta);
   std::string bytes = os.str();
-  makeVdbUuidDeterministic(bytes);
+  sealVdbFile(bytes);
   writeFileAtomically(path, bytes);
 }
 
-ParticleFrame readParticleFrame(const std::string& path) {
-  initOpenVdb();
+namespace {
+
+// What the reader itself finds wrong with a file; readParticleFrame adds the path.
+struct BadFrame : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+template <class M>
+auto metaValue(const openvdb::GridBase& grid, const char* key, const char* type) {
+  const auto m = grid.getMetadata<M>(key);
+  if (!m) throw BadFrame(fmt::format("metadata \"{}\" missing or not a {}", key, type));
+  return m->value();
+}
+
+void requireAttribute(const openvdb::points::AttributeSet::Descriptor& d, const char* name, const char* type) {
+  const size_t pos = d.find(name);
+  if (pos == openvdb::points::AttributeSet::INVALID_POS) throw BadFrame(fmt::format("no attribute \"{}\"", name));
+  if (d.valueType(pos) != type) throw BadFrame(fmt::format("attribute \"{}\" is {}, not {}", name, d.valueType(pos), type));
+}
+
+// `bytes` passed the checksum, so they are what writeParticleFrame wrote, or were made to look
+// so: everything is still checked that would otherwise index out of range or allocate blindly.
+ParticleFrame parseFrame(const std::string& bytes) {
   using namespace openvdb::points;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open " + path);
-  openvdb::io::Stream stream(in);
+  MemoryInput buffer(bytes.data(), bytes.size());
+  std::istream in(&buffer);
+  // No delayed loading: it copies the bytes to a file in TMPDIR (OPENVDB_TEMP_DIR), which a crash
+  // or exit leaves behind.
+  openvdb::io::Stream stream(in, /*delayLoad=*/false);
   openvdb::GridPtrVecPtr grids = stream.getGrids();
   PointDataGrid::Ptr grid;
   for (auto& g : *grids)
-    if (g->getName() == "points") grid = openvdb::gridPtrCast<PointDataGrid>(g);
-  if (!grid) throw std::runtime_error(path + ": no point grid named \"points\"");
+    if (g && g->getName() == "points") grid = openvdb::gridPtrCast<PointDataGrid>(g);
+  if (!grid) throw BadFrame("no point grid named \"points\"");
 
   ParticleFrame f;
-  f.info.time = grid->metaValue<double>("time");
-  f.info.frame = grid->metaValue<int32_t>("frame");
-  f.info.sceneName = grid->metaValue<std::string>("scene");
-  f.info.particleSpacing = grid->metaValue<double>("particle_spacing");
-  std::stringstream names(grid->metaValue<std::string>("phase_names"));
+  f.info.time = metaValue<openvdb::DoubleMetadata>(*grid, "time", "double");
+  f.info.frame = metaValue<openvdb::Int32Metadata>(*grid, "frame", "int32");
+  f.info.sceneName = metaValue<openvdb::StringMetadata>(*grid, "scene", "string");
+  f.info.particleSpacing = metaValue<openvdb::DoubleMetadata>(*grid, "particle_spacing", "double");
+  std::stringstream names(metaValue<openvdb::StringMetadata>(*grid, "phase_names", "string"));
   for (std::string s; std::getline(names, s, ',');) f.info.phaseNames.push_back(s);
+  if (!std::isfinite(f.info.time) || f.info.time < 0) throw BadFrame(fmt::format("time {} is not a time", f.info.time));
+  if (!std::isfinite(f.info.particleSpacing) || !(f.info.particleSpacing > 0))
+    throw BadFrame(fmt::format("particle_spacing {} is not a spacing", f.info.particleSpacing));
+  if (f.info.phaseNames.empty()) throw BadFrame("no phase_names");
 
+  // Offsets and array lengths agree in every leaf (else handles would read out of bounds), and
+  // the total is bounded by the file before allocating: a uniform array holds any number of
+  // points in a few bytes, and the densest file the writer makes (a lattice at rest, every value
+  // but P and id compressed away) has 1 byte a point.
   const auto& tree = grid->tree();
+  uint64_t total = 0;
+  for (auto leaf = tree.cbeginLeaf(); leaf; ++leaf) {
+    const auto& d = leaf->attributeSet().descriptor();
+    requireAttribute(d, "P", "vec3s");
+    requireAttribute(d, "v", "vec3s");
+    requireAttribute(d, "id", "int64");
+    requireAttribute(d, "phase", "int32");
+    requireAttribute(d, "pscale", "float");
+    leaf->validateOffsets();
+    total += leaf->pointCount();
+    if (total > 64 * uint64_t(bytes.size()))
+      throw BadFrame(fmt::format("{} points or more, more than its {} bytes can hold", total, bytes.size()));
+  }
   auto leaf = tree.cbeginLeaf();
   if (!leaf) return f;
   const auto& descriptor = leaf->attributeSet().descriptor();
   std::vector<std::string> scalarNames;
   for (const auto& [name, pos] : descriptor.map())
-    if (descriptor.type(pos).first == "float" && name != "pscale") scalarNames.push_back(name);
+    if (descriptor.valueType(pos) == "float" && name != "pscale") scalarNames.push_back(name);
+  f.position.reserve(total);
+  f.velocity.reserve(total);
+  f.id.reserve(total);
+  f.phase.reserve(total);
+  f.pscale.reserve(total);
+  for (const auto& s : scalarNames) f.scalars[s].reserve(total);
 
   for (; leaf; ++leaf) {
     AttributeHandle<openvdb::Vec3f> P(leaf->constAttributeArray("P"));
@@ -138,9 +192,51 @@ ParticleFrame readParticleFrame(const std::string& path) {
       f.phase.push_back(phase.get(*it));
       f.pscale.push_back(pscale.get(*it));
       for (size_t k = 0; k < scalarNames.size(); ++k) f.scalars[scalarNames[k]].push_back(scalars[k]->get(*it));
+      // The writer refuses non-finite values, and phases index phase_names.
+      if (!isFinite(f.position.back()) || !isFinite(f.velocity.back()) || !std::isfinite(f.pscale.back()))
+        throw BadFrame(fmt::format("particle id {} has a non-finite position, velocity or pscale", f.id.back()));
+      if (f.phase.back() < 0 || size_t(f.phase.back()) >= f.info.phaseNames.size())
+        throw BadFrame(fmt::format("particle id {} has phase {}, and there are {} phase_names", f.id.back(), f.phase.back(),
+                                   f.info.phaseNames.size()));
     }
   }
   return f;
+}
+
+}  // namespace
+
+ParticleFrame readParticleFrame(const std::string& path) {
+  initOpenVdb();
+  const std::string bytes = readSealedVdbFile(path, "particle file", "delete it and run the sim stage again");
+  auto fail = [&](const std::string& why) { return std::runtime_error(path + ": not a readable particle file (" + why + ")"); };
+  try {
+    return parseFrame(bytes);
+  } catch (const BadFrame& e) {
+    throw fail(e.what());
+  } catch (const openvdb::Exception& e) {
+    throw fail("OpenVDB: " + shortErrorText(e.what()));
+  } catch (const std::bad_alloc&) {
+    throw fail("out of memory while reading it");
+  } catch (const std::exception& e) {
+    throw fail(shortErrorText(e.what()));
+  } catch (...) {
+    throw fail("unknown error");
+  }
+}
+
+void checkFrameMatchesScene(const std::string& path, const FrameInfo& info, const Scene& scene) {
+  // Phases (their order gives the indices in the file) and the spacing (kernel radius, voxel
+  // size) decide what the particles mean. The scene name does not: --set changes spacing and
+  // other physics under the same name, and a renamed copy of a scene writes the same particles.
+  std::vector<std::string> names;
+  for (const auto& p : scene.phases) names.push_back(p.name);
+  if (info.phaseNames != names)
+    throw std::runtime_error(fmt::format("{}: written by a scene with phases {}; this scene has {}", path,
+                                         fmt::join(info.phaseNames, ","), fmt::join(names, ",")));
+  const double s = scene.solver.particleSpacing;
+  if (!(std::fabs(info.particleSpacing - s) <= 1e-9 * std::fabs(s)))
+    throw std::runtime_error(fmt::format("{}: written by a scene with particle spacing {} m; this scene has {} m", path,
+                                         info.particleSpacing, s));
 }
 
 }  // namespace mf

@@ -1,8 +1,9 @@
 // Per-frame particle files as OpenVDB point data (Houdini, Blender and OpenVDB's own tools read
 // them): one PointDataGrid "points" with P, v (m/s), id (int64), pscale (m, half the particle
 // spacing), phase (int32), density and pressure, plus each optional attribute the scene has
-// (temperature, interfaceColour, surfaceColour). Grid metadata: time, frame, scene, phase names.
-// OpenVDB headers stay in the .cpp (compile time).
+// (temperature, interfaceColour, surfaceColour). Grid metadata: time, frame, scene, phase names,
+// particle spacing; file metadata: a checksum of the file (vdb_file.h). OpenVDB headers stay in
+// the .cpp (compile time).
 #pragma once
 
 #include <map>
@@ -37,6 +38,12 @@ struct ParticleFrame {
   size_t size() const { return id.size(); }
 };
 
+/// Checks the file's size and checksum before parsing, then its metadata, attributes and
+/// offsets. Every failure is a std::runtime_error "<path>: not a readable particle file (...)".
 ParticleFrame readParticleFrame(const std::string& path);
+
+/// Throws std::runtime_error naming `path`, the field and both values unless the frame was
+/// written by a scene with the same phases, in the same order, and particle spacing as `scene`.
+void checkFrameMatchesScene(const std::string& path, const FrameInfo& info, const Scene& scene);
 
 }  // namespace mf

@@ -9,9 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
 #include <limits>
 
 #include "parallel_util.h"
@@ -574,96 +571,6 @@ void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>&
     if (afterStep) afterStep(*this);
   }
   time_ = t;
-}
-
-// ---- checkpoints ---------------------------------------------------------------------------
-
-namespace {
-constexpr char kMagic[8] = {'M', 'F', 'C', 'K', 'P', 'T', '0', '2'};
-
-template <class T>
-void put(std::ostream& o, const T& v) {
-  o.write(reinterpret_cast<const char*>(&v), sizeof(T));
-}
-template <class T>
-T get(std::istream& in) {
-  T v{};
-  in.read(reinterpret_cast<char*>(&v), sizeof(T));
-  return v;
-}
-}  // namespace
-
-void Simulation::saveCheckpoint(const std::string& path, int frame) const {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream o(tmp, std::ios::binary | std::ios::trunc);
-    if (!o) throw std::runtime_error("cannot write checkpoint " + tmp);
-    o.write(kMagic, 8);
-    put(o, scene_.simulationHash);
-    put(o, int32_t(frame));
-    put(o, time_);
-    put(o, nextId_);
-    put(o, counters_);
-    put(o, ps_.attributes);
-    put(o, uint64_t(ps_.size()));
-    const_cast<ParticleSet&>(ps_).forEachArray([&](const char* name, const auto& v) {
-      put(o, uint32_t(std::strlen(name)));
-      o.write(name, std::streamsize(std::strlen(name)));
-      put(o, uint32_t(sizeof(v[0])));
-      o.write(reinterpret_cast<const char*>(v.data()), std::streamsize(v.size() * sizeof(v[0])));
-    });
-    // State the effects keep outside the particles (emitter counters, heat exchangers).
-    put(o, uint32_t(effects_.size()));
-    for (const auto& e : effects_) {
-      const std::vector<uint8_t> state = e->saveState();
-      put(o, uint32_t(std::strlen(e->name())));
-      o.write(e->name(), std::streamsize(std::strlen(e->name())));
-      put(o, uint64_t(state.size()));
-      o.write(reinterpret_cast<const char*>(state.data()), std::streamsize(state.size()));
-    }
-    o.write(kMagic, 8);  // trailer: a truncated file is detected
-    if (!o) throw std::runtime_error("error writing checkpoint " + tmp);
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp + " to " + path);
-}
-
-int Simulation::loadCheckpoint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  char magic[8];
-  if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0)
-    throw std::runtime_error(path + ": not a multifluid checkpoint");
-  if (get<uint64_t>(in) != scene_.simulationHash)
-    throw std::runtime_error(path + ": checkpoint was made from a different scene (or other --set values)");
-  const int frame = get<int32_t>(in);
-  time_ = get<Real>(in);
-  nextId_ = get<uint64_t>(in);
-  counters_ = get<SimulationCounters>(in);
-  ps_.attributes = get<AttributeMask>(in);
-  const uint64_t n = get<uint64_t>(in);
-  ps_.forEachArray([&](const char* name, auto& v) {
-    const uint32_t len = get<uint32_t>(in);
-    std::string stored(len, '\0');
-    in.read(stored.data(), len);
-    const uint32_t elem = get<uint32_t>(in);
-    if (stored != name || elem != sizeof(v[0])) throw std::runtime_error(path + ": checkpoint layout differs (array " + stored + ")");
-    v.resize(n);
-    in.read(reinterpret_cast<char*>(v.data()), std::streamsize(n * sizeof(v[0])));
-  });
-  if (get<uint32_t>(in) != effects_.size()) throw std::runtime_error(path + ": checkpoint layout differs (effects)");
-  for (const auto& e : effects_) {
-    const uint32_t len = get<uint32_t>(in);
-    std::string stored(len < 256 ? len : 0, '\0');
-    in.read(stored.data(), std::streamsize(stored.size()));
-    const uint64_t bytes = get<uint64_t>(in);
-    if (!in || stored != e->name() || bytes > (uint64_t(1) << 32))
-      throw std::runtime_error(path + ": checkpoint layout differs (effect " + stored + ")");
-    std::vector<uint8_t> state(bytes);
-    in.read(reinterpret_cast<char*>(state.data()), std::streamsize(bytes));
-    e->loadState(state);
-  }
-  if (!in.read(magic, 8) || std::memcmp(magic, kMagic, 8) != 0) throw std::runtime_error(path + ": truncated checkpoint");
-  searchAndDensity();
-  return frame;
 }
 
 }  // namespace mf

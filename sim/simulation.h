@@ -90,10 +90,11 @@ class Simulation {
   /// Sub-steps until time() == t exactly (the last sub-steps are evened out to land on t).
   void advanceTo(Real t, const std::function<void(const Simulation&)>& afterStep = {});
 
-  /// Exact state to a file (temporary name, then rename), and back. Loading checks that the
-  /// checkpoint was made from the same scene text.
+  /// Exact state to a file (temporary name, then rename), with a checksum (sim/checkpoint.cpp).
   void saveCheckpoint(const std::string& path, int frame) const;
-  /// Returns the frame stored in the checkpoint.
+  /// Returns the frame stored in the checkpoint. Throws std::runtime_error, its text starting
+  /// with `path`, for a damaged file, one of another scene or format, or values no run writes;
+  /// the state is then unchanged.
   int loadCheckpoint(const std::string& path);
 
  private:

@@ -12,6 +12,7 @@
 #include "particle_surface.h"
 #include "sim/file_util.h"
 #include "sim/particle_io.h"
+#include "sim/vdb_file.h"
 
 namespace fs = std::filesystem;
 
@@ -35,7 +36,8 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
   }
 
   const ParticleFrame particles = readParticleFrame(particleFile);
-  const double spacing = particles.info.particleSpacing > 0 ? particles.info.particleSpacing : scene.solver.particleSpacing;
+  checkFrameMatchesScene(particleFile, particles.info, scene);
+  const double spacing = particles.info.particleSpacing;  // the scene's, to 1e-9 (checked)
   openvdb::GridPtrVec grids;
   bool firstFog = true, firstVel = true;
   for (uint16_t p : s.phases) {
@@ -82,10 +84,12 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
       }
     }
   }
+  openvdb::MetaMap fileMeta;
+  fileMeta.insertMeta(kVdbChecksumKey, openvdb::StringMetadata(vdbChecksumPlaceholder()));
   std::ostringstream os(std::ios::binary);
-  openvdb::io::Stream(os).write(grids);
+  openvdb::io::Stream(os).write(grids, fileMeta);
   std::string bytes = os.str();
-  makeVdbUuidDeterministic(bytes);
+  sealVdbFile(bytes);
   fs::create_directories(fs::path(surfaceFile).parent_path());
   writeFileAtomically(surfaceFile, bytes);  // last: its presence marks the frame complete
   result.written.push_back(surfaceFile);

@@ -16,7 +16,8 @@ struct SurfaceFrameResult {
   size_t activeVoxels = 0;            // over all level sets
 };
 
-/// Reads `particleFile`, surfaces the scene's [surfacing] phases and writes `surfaceFile`
+/// Reads `particleFile` (refused, naming it, if damaged or written by a scene with other phases
+/// or spacing), surfaces the scene's [surfacing] phases and writes `surfaceFile`
 /// (one FloatGrid level set per phase, named after it; optional "density" fog copies and "vel"
 /// grids) and, when asked, meshes `meshDir/<phase>.NNNN.ply|obj`. Every file is written under a
 /// temporary name and renamed; if `surfaceFile` exists (and every mesh asked for), nothing is

@@ -118,7 +118,7 @@ TEST(ParticleFiles, ReadBackWithOpenVdbsOwnFileReader) {
   // As a DCC tool opens it: io::File, a grid named "points" with the expected attributes.
   openvdb::initialize();
   openvdb::io::File f(file.string());
-  f.open();
+  f.open(false);  // delayed loading would copy the file to TMPDIR
   auto grid = openvdb::gridPtrCast<openvdb::points::PointDataGrid>(f.readGrid("points"));
   f.close();
   ASSERT_TRUE(grid);

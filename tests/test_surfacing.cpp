@@ -280,7 +280,8 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   const fs::path dir = fs::temp_directory_path() / ("mf_surface_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const mf::Scene scene = mf::loadScene("two_fluids_mixed", {"solver.particle_spacing=0.02", "surfacing.fog=true",
+  // The scene's spacing is the file's: surfacing refuses particles of another spacing.
+  const mf::Scene scene = mf::loadScene("two_fluids_mixed", {"solver.particle_spacing=0.01", "surfacing.fog=true",
                                                              "surfacing.velocity=true", "surfacing.meshes=[\"ply\",\"obj\"]"});
   mf::ParticleSet ps;
   // Two blocks, one per phase, written as the simulation would.
@@ -312,7 +313,7 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   EXPECT_TRUE(fs::exists(dir / "mesh" / "heavy.0007.obj"));
 
   std::ifstream in(surfaceFile, std::ios::binary);
-  openvdb::io::Stream stream(in);
+  openvdb::io::Stream stream(in, /*delayLoad=*/false);  // delayed loading copies the file to TMPDIR
   auto grids = stream.getGrids();
   std::vector<std::string> names;
   for (const auto& g : *grids) names.push_back(g->getName());
