@@ -96,8 +96,10 @@ HEADER = re.compile(r"^\s*(\[\[|\[)\s*([^\[\]]+?)\s*(\]\]|\])\s*$")
 
 
 def short(v, n=60):
-    s = tv(v) if not isinstance(v, str) or isinstance(v, Raw) else tstr(v)
-    return s if len(s) <= n else s[: n - 12] + "...(%d chars)" % len(s)
+    s = tv(v)
+    if len(s) <= n:
+        return s
+    return s[: n - 12] + ('..." (%d characters)' % len(v) if isinstance(v, str) and not isinstance(v, Raw) else "...")
 
 
 class Doc:
@@ -526,7 +528,7 @@ BAD_NAMES = [
     ("empty", ""),
     ("NUL byte", "wa\u0000ter"),
     ("newline", "two\nlines"),
-    ("10000 characters", "n" * 10000),
+    ("very long", "n" * 10000),
 ]
 
 
