@@ -1,0 +1,30 @@
+// libFuzzer target: mf::parseScene on arbitrary bytes. A scene the reader refuses must be refused
+// with mf::SceneError, every problem of which names the file; anything else (another exception,
+// a crash, a sanitizer report, a timeout, memory over the limit) is a bug.
+// Built and run by tests/fuzz_parser.sh; corpus in tests/fuzz/corpus/.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "sim/scene_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const std::string kFile = "fuzz.toml";
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  try {
+    mf::parseScene(text, kFile);
+  } catch (const mf::SceneError& e) {
+    if (e.problems().empty()) {
+      std::fprintf(stderr, "SceneError with no problem\n");
+      std::abort();
+    }
+    for (const mf::SceneProblem& p : e.problems())
+      if (p.file != kFile || p.str().compare(0, kFile.size(), kFile) != 0) {
+        std::fprintf(stderr, "problem that does not name the file: %s\n", p.str().c_str());
+        std::abort();
+      }
+  }
+  return 0;
+}
