@@ -1,4 +1,5 @@
-// libFuzzer target: mf::parseScene on arbitrary bytes. A scene the reader refuses must be refused
+// libFuzzer target: mf::parseScene, then the budget check (mf::checkSceneBudget) of a scene it
+// accepts, on arbitrary bytes. A scene the reader refuses must be refused
 // with mf::SceneError, every problem of which names the file; anything else (another exception,
 // a crash, a sanitizer report, a timeout, memory over the limit) is a bug.
 // Built and run by tests/fuzz_parser.sh; corpus in tests/fuzz/corpus/.
@@ -8,13 +9,15 @@
 #include <cstdlib>
 #include <string>
 
+#include "sim/scene_budget.h"
 #include "sim/scene_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string kFile = "fuzz.toml";
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    mf::parseScene(text, kFile);
+    const mf::Scene scene = mf::parseScene(text, kFile);
+    mf::checkSceneBudget(scene);
   } catch (const mf::SceneError& e) {
     if (e.problems().empty()) {
       std::fprintf(stderr, "SceneError with no problem\n");
