@@ -93,11 +93,12 @@ struct EffectParam {
   std::vector<Real> defaults; // empty: the key is required
   std::string unit, doc;
   int phaseNames = 0;         // 1: a phase name ("water"); 2: a pair (["water", "oil"]); stored as indices
+  bool whole = false;         // a count or a choice: a fractional value is refused
 
   EffectParam(std::string k, int comps, Real low, Real high, std::vector<Real> defs, std::string u, std::string d,
-              int names = 0)
+              int names = 0, bool wholeNumber = false)
       : key(std::move(k)), components(comps), lo(low), hi(high), defaults(std::move(defs)), unit(std::move(u)),
-        doc(std::move(d)), phaseNames(names) {}
+        doc(std::move(d)), phaseNames(names), whole(wholeNumber) {}
 };
 
 /// A list of entries of an effect, [[effects.NAME.KEY]] in the scene file (heat sources, pairs).

@@ -157,6 +157,16 @@ class TableReader {
     return *v;
   }
 
+  /// A whole number (a count, a size in pixels, a choice) in [lo, hi].
+  int integer(const std::string& key, int def, Real lo, Real hi, const std::string& unit = "") {
+    const Real v = number(key, def, lo, hi, unit);
+    if (v != std::floor(v)) {
+      r_.problem(node(key), path(key), fmt::format("value {:g} is not a whole number; expected one in {}", v, rangeText(lo, hi, false, unit)));
+      return def;
+    }
+    return int(v);
+  }
+
   std::vector<Real> numbers(const std::string& key, size_t count, std::vector<Real> def, Real lo, Real hi,
                             const std::string& unit = "", bool required = false) {
     const toml::node* n = node(key);
@@ -319,7 +329,7 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.pressure = s.text("pressure", "wcsph", {"wcsph", "dfsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
   o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
   o.divergenceTolerance = s.number("divergence_tolerance", o.divergenceTolerance, 1e-6, 0.1, "(relative, per step)", false);
-  o.maxPressureIterations = int(s.number("max_pressure_iterations", o.maxPressureIterations, 2, 10000));
+  o.maxPressureIterations = s.integer("max_pressure_iterations", o.maxPressureIterations, 2, 10000);
   o.particleSpacing = s.number("particle_spacing", o.particleSpacing, 1e-5, 10, "m", true, true);
   o.smoothingRatio = s.number("smoothing_ratio", o.smoothingRatio, 1.2, 4.0);
   o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number
@@ -333,10 +343,10 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.maxDt = s.number("max_dt", o.maxDt, 1e-9, 1, "s", true);
   o.minDt = s.number("min_dt", o.minDt, 1e-14, 1, "s", true);
   o.boundarySpacingRatio = s.number("boundary_spacing_ratio", o.boundarySpacingRatio, 0.2, 1.5);
-  o.reorderInterval = int(s.number("reorder_interval", o.reorderInterval, 1, 1000));
+  o.reorderInterval = s.integer("reorder_interval", o.reorderInterval, 1, 1000);
   o.maxMoveRatio = s.number("max_move_ratio", o.maxMoveRatio, 0, 4, "", true);
   o.maxDensityError = s.number("max_density_error", o.maxDensityError, 0, 100, "", true);
-  o.maxRetries = int(s.number("max_retries", o.maxRetries, 0, 40));
+  o.maxRetries = s.integer("max_retries", o.maxRetries, 0, 40);
 }
 
 /// A problem with `key` of the table `t`: at the key's line if it is given, else the table's.
@@ -372,7 +382,8 @@ void readEffectParam(Reader& r, TableReader& t, const EffectParam& p, const Scen
     return;
   }
   const std::vector<Real> def = required ? std::vector<Real>(size_t(p.components), 0) : p.defaults;
-  if (p.components == 1) out.params[p.key] = {t.number(p.key, def.at(0), p.lo, p.hi, p.unit, false, required)};
+  if (p.components == 1 && p.whole) out.params[p.key] = {Real(t.integer(p.key, int(def.at(0)), p.lo, p.hi, p.unit))};
+  else if (p.components == 1) out.params[p.key] = {t.number(p.key, def.at(0), p.lo, p.hi, p.unit, false, required)};
   else out.params[p.key] = t.numbers(p.key, size_t(p.components), def, p.lo, p.hi, p.unit, required);
 }
 
@@ -424,7 +435,7 @@ void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
   m.scattering = t.number("scattering", m.scattering, 0, 1e6, "1/m");
   m.colour = t.vec3("colour", m.colour, 0, 1, "(albedo)");
   m.emission = t.vec3("emission", m.emission, 0, 1e6, "(relative radiance)");
-  m.priority = int(t.number("priority", m.priority, 0, 1000));
+  m.priority = t.integer("priority", m.priority, 0, 1000);
   if (solid) {
     m.thickness = t.number("thickness", m.thickness, 0, 10, "m", true);
     m.visible = t.boolean("visible", m.visible);
@@ -437,10 +448,10 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name));
   o.solidMaterials.assign(sc.solids.size(), defaultSolidMaterial());
   TableReader t(r, top.table("render"), "render");
-  o.width = int(t.number("width", o.width, 8, 16384, "pixels"));
-  o.height = int(t.number("height", o.height, 8, 16384, "pixels"));
-  o.samples = int(t.number("samples", o.samples, 1, 1e5, "per pixel"));
-  o.maxDepth = int(t.number("max_depth", o.maxDepth, 1, 1000, "bounces"));
+  o.width = t.integer("width", o.width, 8, 16384, "pixels");
+  o.height = t.integer("height", o.height, 8, 16384, "pixels");
+  o.samples = t.integer("samples", o.samples, 1, 1e5, "per pixel");
+  o.maxDepth = t.integer("max_depth", o.maxDepth, 1, 1000, "bounces");
   o.indirectClamp = t.number("indirect_clamp", o.indirectClamp, 0, 1e9, "(relative radiance; 0 = off)");
   if (t.has("phases")) {
     const toml::node* pn = t.node("phases");
@@ -452,6 +463,8 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
         if (pi < 0) r.problem(&e, "render.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
         else if (std::find(sc.surfacing.phases.begin(), sc.surfacing.phases.end(), pi) == sc.surfacing.phases.end())
           r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is not in surfacing.phases, so it has no level set to render");
+        else if (std::find(o.phases.begin(), o.phases.end(), uint16_t(pi)) != o.phases.end())
+          r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is listed twice");
         else o.phases.push_back(uint16_t(pi));
       }
   } else {
@@ -504,7 +517,50 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
 
 }  // namespace
 
+namespace {
+/// toml++ parses nested tables, arrays and dotted keys recursively: tens of thousands of levels
+/// overflow the stack. No scene nests more than a few levels, so deeper text is refused first.
+/// Returns the first line nesting deeper than `limit`, or 0. Strings and comments are skipped.
+int lineNestedDeeperThan(const std::string& text, int limit) {
+  int line = 1, depth = 0, dots = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '\n') {
+      ++line, dots = 0;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '"' || c == '\'') {
+      const bool triple = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::string close = triple ? std::string(3, c) : std::string(1, c);
+      size_t j = i + close.size();
+      for (; j < text.size(); ++j) {
+        if (c == '"' && text[j] == '\\') {
+          ++j;
+          continue;
+        }
+        if (text[j] == '\n') {
+          if (!triple) break;
+          ++line;
+        }
+        if (text.compare(j, close.size(), close) == 0) break;
+      }
+      i = j + close.size() - 1;
+    } else if (c == '[' || c == '{') {
+      if (++depth > limit) return line;
+    } else if (c == ']' || c == '}') {
+      depth = std::max(0, depth - 1);
+    } else if (c == '.' && !(i > 0 && std::isdigit(static_cast<unsigned char>(text[i - 1])))) {
+      if (++dots > limit) return line;
+    }
+  }
+  return 0;
+}
+}  // namespace
+
 Scene parseScene(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+  constexpr int kMaxNesting = 64;
+  if (const int line = lineNestedDeeperThan(text, kMaxNesting))
+    throw SceneError({{sourceName, line, "", fmt::format("tables, arrays or dotted keys nested deeper than {} levels", kMaxNesting)}});
   toml::table root;
   try {
     root = toml::parse(text, sourceName);
@@ -587,6 +643,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       SolidSpec s;
       s.name = t.text("name", fmt::format("solid{}", k));
       if (t.has("name")) r.name(t.node("name"), t.path("name"), s.name);
+      for (const SolidSpec& other : sc.solids)
+        if (other.name == s.name) r.problem(t.node("name"), t.path("name"), fmt::format("duplicate solid name \"{}\"", s.name));
       const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
       s.openTop = t.boolean("open_top", false);
       if (shape == "box") {
@@ -687,6 +745,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           for (const auto& p : sc.phases) known += (known.empty() ? "\"" : ", \"") + p.name + "\"";
           r.problem(t.node(t.has("phase") ? "phase" : "phases"), t.path(t.has("phase") ? "phase" : "phases"),
                     fmt::format("unknown phase \"{}\"; defined: {}", n, known));
+        } else if (std::find(f.phases.begin(), f.phases.end(), uint16_t(pi)) != f.phases.end()) {
+          r.problem(t.node("phases"), t.path("phases"), fmt::format("phase \"{}\" is listed twice", n));
         } else {
           f.phases.push_back(uint16_t(pi));
         }
@@ -769,6 +829,8 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
           for (const toml::node& e : *pa) {
             const int pi = sc.phaseIndex(e.value<std::string>().value_or(""));
             if (pi < 0) r.problem(&e, "surfacing.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
+            else if (std::find(o.phases.begin(), o.phases.end(), uint16_t(pi)) != o.phases.end())
+              r.problem(&e, "surfacing.phases", "phase \"" + sc.phases[pi].name + "\" is listed twice");
             else o.phases.push_back(uint16_t(pi));
           }
       } else {
@@ -778,10 +840,10 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       o.radiusRatio = t.number("radius_ratio", o.radiusRatio, 0.3, 3, "of the particle spacing");
       o.searchRatio = t.number("search_ratio", o.searchRatio, 0.5, 6, "of the particle spacing");
       if (o.searchRatio < o.radiusRatio) r.problem(t.node("search_ratio"), "surfacing.search_ratio", "must be at least surfacing.radius_ratio");
-      o.filterRadius = int(t.number("filter_radius", o.filterRadius, 0, 5, "voxels"));
+      o.filterRadius = t.integer("filter_radius", o.filterRadius, 0, 5, "voxels");
       o.filterSpatialSigma = t.number("filter_spatial_sigma", o.filterSpatialSigma, 0, 5, "voxels", true);
       o.filterRangeSigma = t.number("filter_range_sigma", o.filterRangeSigma, 0, 10, "voxels (0 = plain Gaussian)");
-      o.filterIterations = int(t.number("filter_iterations", o.filterIterations, 0, 20));
+      o.filterIterations = t.integer("filter_iterations", o.filterIterations, 0, 20);
       o.clipToSolids = t.boolean("clip_to_solids", o.clipToSolids);
       o.fog = t.boolean("fog", o.fog);
       o.velocity = t.boolean("velocity", o.velocity);

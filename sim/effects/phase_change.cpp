@@ -334,7 +334,7 @@ EffectInfo phaseChangeInfo() {
        {"vapour", 1, 0, 0, {}, "", "its vapour phase", 1},
        {"boiling_temperature", 1, -273.15, 1e4, {100.0}, "deg C", "liquid hotter than this can evaporate"},
        {"condensation_margin", 1, 0, 1e3, {2.0}, "K", "vapour colder than boiling_temperature - margin condenses"},
-       {"sites", 1, 0, 1e4, {5.0}, "", "number of cavitation sites (the paper: 5)"},
+       {"sites", 1, 0, 1e4, {5.0}, "", "number of cavitation sites (the paper: 5)", 0, true},
        {"site_min", 3, -1e6, 1e6, {}, "m", "box the sites are drawn in (the heated bottom)"},
        {"site_max", 3, -1e6, 1e6, {}, "m", "box corner"},
        {"seed", 1, 0, 9e15, {1.0}, "", "random seed of the sites"},

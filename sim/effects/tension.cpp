@@ -297,7 +297,7 @@ EffectInfo interfaceTensionInfo() {
       "tension at fluid-fluid interfaces, -sigma_i lap(c_i) n/|n| (eqs. 3, 4); c_i per phase (interface_colour)",
       {{"sigma", 1, 0, 1e4, {0.0}, "N/m", "interface tension of every pair of unlike fluids (pairs below override)"},
        {"normal_threshold", 1, 0, 10, {0.0}, "1/h", "force only where |grad c| > threshold / h (the stress model needs none: it vanishes with |n|)"},
-       {"model", 1, 0, 2, {2.0}, "", "2: capillary stress (Hu & Adams 2006); 1: sigma kappa n, kappa = -div(n/|n|) (Morris 2000); 0: the paper's -sigma lap(c) n/|n| (eq. 4)"},
+       {"model", 1, 0, 2, {2.0}, "", "2: capillary stress (Hu & Adams 2006); 1: sigma kappa n, kappa = -div(n/|n|) (Morris 2000); 0: the paper's -sigma lap(c) n/|n| (eq. 4)", 0, true},
        {"time_step_factor", 1, 1e-3, 10, {1.0}, "", "dt <= factor sqrt(rho dx^3 / (2 pi sigma)) (Brackbill)"}},
       [](const EffectSpec& spec, const Scene& scene) {
         const size_t n = scene.phases.size();
@@ -325,7 +325,7 @@ EffectInfo surfaceTensionInfo() {
       "surface_tension",
       "tension at free surfaces, -sigma_s lap(c_s) n/|n| (eqs. 3, 4); sigma_s per phase (surface_tension)",
       {{"normal_threshold", 1, 0, 10, {0.2}, "1/h", "force only where |grad c_s| > threshold / h"},
-       {"curvature", 1, 0, 1, {1.0}, "", "1: kappa = -div(n/|n|) (Morris 2000); 0: the paper's lap(c) (eq. 4)"},
+       {"curvature", 1, 0, 1, {1.0}, "", "1: kappa = -div(n/|n|) (Morris 2000); 0: the paper's lap(c) (eq. 4)", 0, true},
        {"wall_colour", 1, 0, 1, {1.0}, "", "colour the walls count as: 1 like liquid, 0 like gas"},
        {"time_step_factor", 1, 1e-3, 10, {1.0}, "", "dt <= factor sqrt(rho dx^3 / (2 pi sigma)) (Brackbill)"}},
       [](const EffectSpec& spec, const Scene& scene) {

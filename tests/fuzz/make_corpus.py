@@ -6,6 +6,8 @@ Every file is invalid on purpose, and for one reason that the description names 
 the value it sets). `expect` says what the refusal must show besides the file's path:
   line        "PATH:N:" (a line number)
   key:K       "PATH:N: key 'K" (the line and the key, K a prefix of the dotted key)
+  file        the path alone: files over the 1 MiB scene limit or with NUL bytes are refused
+              whole, before parsing, so there is no line to name
 The files are checked here before they are written (Python's tomllib): a scene whose fault is
 its meaning (a value, a name, a count) must be valid TOML with the faulty value in place, so that
 it cannot be refused for some other, accidental reason; a syntax error or a TOML duplicate must
@@ -235,6 +237,10 @@ class Corpus:
         if isinstance(data, str):
             data = data.encode("utf-8", "surrogatepass")
         name = "%04d_%s_%s.toml" % (len(self.entries), cls, config or "none")
+        # Whole-file refusals have no line or key: a file over multifluid's 1 MiB scene limit, or
+        # one with NUL bytes (not a text file), is refused before it is parsed.
+        if len(data) > (1 << 20) or b"\0" in data:
+            expect = "file"
         if check == "valid":
             try:
                 doc = tomllib.loads(data.decode("utf-8"))
@@ -412,11 +418,13 @@ def gen_hangs(corpus, c, rng):
             note="c = 1e5 m/s: dt collapses")
     for cfg in CONFIG_NAMES:
         one(corpus, c, "hang_cfl", cfg, "solver", "cfl", 1e-12, expect="line", note="dt collapses to min_dt")
-    for cfg, idx in [("boiling", 0), ("boiling", 1), ("lava_lamp", 1), ("diffusion", 0)]:
+    # Not lava_lamp: its wax at 10 m^2/s steps at 7.3e-6 s (measured), 1.3e4 steps per frame,
+    # inside the 1e5 bound: a slow scene, not a hang, and accepted.
+    for cfg, idx in [("boiling", 0), ("boiling", 1), ("diffusion", 0)]:
         one(corpus, c, "hang_diffusivity", cfg, "phase", "thermal_diffusivity", 10.0, idx=idx, expect="line",
-            note="heat_diffusion on: dt collapses to 1e-8 s")
+            note="heat_diffusion on: dt 3.6e-7 s at rest, over 1e5 steps per frame")
     one(corpus, c, "hang_diffusivity", "diffusion", "phase", "dye_diffusivity", 10.0, expect="line",
-        note="dye_diffusion on: dt collapses to 1e-8 s")
+        note="dye_diffusion on: dt 3.6e-7 s at rest, over 1e5 steps per frame")
 
 
 def gen_zero(corpus, c, rng):
