@@ -9,6 +9,7 @@ namespace mf {
 
 namespace {
 constexpr size_t kBlock = 1024;
+constexpr Real kRelaxation = 0.5;
 }
 
 template <class F>
@@ -115,15 +116,17 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
     // theta* = theta + dt d(theta)/dt; Jacobi step on the pressure, kept >= 0.
     Real maxErr = 0;
     const Real sum = blockSum(n, [&](size_t i) {
+      // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
+      // fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
+      // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
       const Real err = ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1;
-      const Real step = diagonal_[i] > 0 ? err * inv / diagonal_[i] : 0;
-      const Real next = std::max(Real(0), p[i] + step);
+      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * inv / diagonal_[i]) : Real(0);
       delta_[i] = next - p[i];
-      // A particle whose pressure is held at zero is not compressed: it adds no error.
-      return next > 0 || err > 0 ? std::max(err, Real(0)) : Real(0);
+      // The error left: compression anywhere, and expansion where a pressure still pushes.
+      return next > 0 ? std::fabs(err) : std::max(err, Real(0));
     });
     for (size_t i = 0; i < n; ++i)
-      maxErr = std::max(maxErr, std::max(Real(0), ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1));
+      maxErr = std::max(maxErr, ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1);
     stats.iterations = it;
     stats.meanError = sum / Real(n);
     stats.maxError = maxErr;
@@ -148,12 +151,13 @@ PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, Particle
     densityRate(ctx, ps);
     const Real sum = blockSum(n, [&](size_t i) {
       // Only where the fluid is (about to be) at rest density: a free surface may expand.
+      // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free
+      // surface, a splash) it may expand, and only a pressure left from before is undone.
       const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
-      const Real err = dense ? rate_[i] : 0;
-      const Real step = diagonal_[i] > 0 ? err * inv / diagonal_[i] : 0;
-      const Real next = std::max(Real(0), p[i] + step);
+      const Real err = dense ? rate_[i] : std::min(rate_[i], Real(0));
+      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * inv / diagonal_[i]) : Real(0);
       delta_[i] = next - p[i];
-      return std::max(err, Real(0)) * dt;
+      return (next > 0 ? std::fabs(err) : std::max(err, Real(0))) * dt;
     });
     stats.iterations = it;
     stats.meanError = sum / Real(n);
