@@ -358,6 +358,9 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Vec3 v = ps_.velocity[i];
       Vec3 x = x0[i] + v * dt;
+      // A container is never crossed: a particle that was inside (or on the wall, within
+      // rounding) and would end outside is put back on the wall. Matters for splashes whose
+      // density stays below rest density (no pressure, so no wall force) and violent steps.
       for (const SolidSpec& s : scene_.solids)
         if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance)) clamps += clampToFluidRegion(s, x, v);
       ps_.velocity[i] = v;
@@ -371,26 +374,12 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
 
 void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
   const auto t0 = Clock::now();
-  // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), x(t+dt) = x + dt v(t+dt).
-  std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
-  const Real onWallTolerance = 0.1 * scene_.solver.particleSpacing;
+  // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), then x(t+dt) = x + dt v(t+dt) in advect.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    uint64_t clamps = 0;
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      Vec3 v = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
-      Vec3 x = x0[i] + v * dt;
-      // A container is never crossed: a particle that was inside (or on the wall, within
-      // rounding) and would end outside is put back on the wall. Matters for splashes whose
-      // density stays below rest density (no pressure, so no wall force) and violent steps.
-      for (const SolidSpec& s : scene_.solids)
-        if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance)) clamps += clampToFluidRegion(s, x, v);
-      ps_.velocity[i] = v;
-      ps_.position[i] = x;
-    }
-    clampsPerBlock[r.begin() / kGrain] += clamps;
+    for (size_t i = r.begin(); i != r.end(); ++i) ps_.velocity[i] = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
   });
-  for (uint64_t c : clampsPerBlock) counters_.wallClamps += c;
   times_.integrate += since(t0);
+  advect(dt, x0);
 }
 
 int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& parameter) const {

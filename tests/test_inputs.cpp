@@ -144,7 +144,10 @@ mf::FrameInfo infoFor(const mf::Scene& scene, double time, int frame) {
 
 // Field offsets in format 03 (sim/checkpoint.cpp): the tests check the values found there first,
 // so a layout change fails them instead of editing some other bytes.
-constexpr size_t kFrameAt = 16, kTimeAt = 20, kCountAt = 108, kFirstNameAt = 116;
+// Tag and version (8), scene hash (8), frame (4), time (8), next id (8), counters' size (4),
+// the counters, the attribute mask (4), then the particle count (8) and the first array's name.
+constexpr size_t kFrameAt = 16, kTimeAt = 20, kCountAt = 40 + sizeof(mf::SimulationCounters) + 4,
+                 kFirstNameAt = kCountAt + 8;
 
 template <class T>
 T field(const std::string& b, size_t at) {

@@ -1,0 +1,108 @@
+// The implicit pressure solver (solver.pressure = "dfsph", sim/pressure/dfsph.h), as far as it is
+// built: stable, converged, clamp-free and deterministic. Its accuracy targets (a still tank at
+// 1e-3 m/s, hydrostatic pressure within 1 %) are not met yet; README "Pressure solvers" gives the
+// measured figures.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace {
+
+using mf::Real;
+
+// Water 10 cm deep in a closed 20 x 30 x 20 cm box at 1 cm spacing (4 000 particles).
+const char* kStillTank = R"([scene]
+name = "still"
+end_time = 1.0
+frame_rate = 10
+domain_min = [-0.05, -0.05, -0.05]
+domain_max = [0.25, 0.35, 0.25]
+[solver]
+particle_spacing = 0.01
+pressure = "dfsph"
+max_dt = 0.005
+[[phase]]
+name = "water"
+rest_density = 1000.0
+viscosity = 0.01
+[[solid]]
+name = "tank"
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.2, 0.3, 0.2]
+[[fluid]]
+phase = "water"
+min = [0.0, 0.0, 0.0]
+max = [0.2, 0.1, 0.2]
+[effects.gravity]
+acceleration = [0.0, -9.81, 0.0]
+[effects.viscosity]
+)";
+
+std::string stateBytes(mf::Simulation& sim) {
+  std::string bytes;
+  sim.mutableParticles().forEachArray([&](const char*, const auto& v) {
+    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
+  });
+  return bytes;
+}
+
+TEST(Dfsph, StillTankStaysAtRestDensityWithoutClampsAndTheStepIsSetByTheFlow) {
+  mf::Simulation sim(mf::parseScene(kStillTank, "still.toml"));
+  Real worstMean = 0;
+  sim.advanceTo(1.0, [&](const mf::Simulation& s) {
+    worstMean = std::max(worstMean, std::fabs(s.counters().lastDensityError));
+  });
+  const auto& c = sim.counters();
+  const auto& ps = sim.particles();
+  Real vmax = 0, mean = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    vmax = std::max(vmax, length(ps.velocity[i]));
+    mean += ps.density[i] / ps.restDensity[i] - 1;
+  }
+  mean /= Real(ps.size());
+  // Every step's solve converged to the 0.05 % tolerance (else it would have been retried).
+  EXPECT_LE(worstMean, 5e-4);
+  EXPECT_EQ(c.retries, 0u);
+  // The mean density error over all particles (the surface layer reads low) stays within 0.2 %.
+  EXPECT_LT(std::fabs(mean), 2e-3);
+  // Walls inside the solve: no particle needed the last-resort clamp.
+  EXPECT_EQ(c.wallClamps, 0u);
+  // No sound speed: at most 5 ms steps (max_dt), about 200 steps for 1 s where WCSPH at
+  // k = 1000 takes 1 s / (0.4 h / c) = 1 250 or more.
+  EXPECT_LE(c.steps, 260u);
+  // Measured 0.134 m/s: surface particles still jitter (the 1e-3 m/s target is open); the
+  // bound catches a solver that blows up (before the relaxation: 7 700 m/s at step 5).
+  EXPECT_LT(vmax, 0.3);
+}
+
+TEST(Dfsph, SameBitsOnOneAndTwoThreadsAndAfterResume) {
+  const mf::Scene scene = mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", "solver.particle_spacing=0.00714"});
+  // Frames at 0.05 and 0.1 s, as the pipeline advances (each advanceTo lands on its time).
+  auto run = [&](int threads, double t) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    mf::Simulation sim(scene);
+    sim.advanceTo(0.05);
+    if (t > 0.05) sim.advanceTo(t);
+    return sim;
+  };
+  mf::Simulation one = run(1, 0.1), two = run(2, 0.1);
+  EXPECT_GT(one.counters().pressureIterations, 0u);
+  EXPECT_EQ(stateBytes(one), stateBytes(two));
+  // The warm-start pressures are particle arrays: checkpointed and restored with the rest.
+  const std::string path = (std::filesystem::temp_directory_path() / ("mf_dfsph_" + std::to_string(::getpid()) + ".bin")).string();
+  mf::Simulation first = run(2, 0.05);
+  first.saveCheckpoint(path, 1);
+  mf::Simulation resumed(scene);
+  resumed.loadCheckpoint(path);
+  resumed.advanceTo(0.1);
+  std::filesystem::remove(path);
+  EXPECT_EQ(stateBytes(resumed), stateBytes(one));
+}
+
+}  // namespace
