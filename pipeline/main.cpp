@@ -49,10 +49,15 @@ struct Options {
   double threshold = 0.016, failPercent = 1;
 };
 
+/// Only decimal digits, at most `maxDigits` of them (so that stoi cannot overflow).
+bool isCount(const std::string& t, size_t maxDigits) {
+  return !t.empty() && t.size() <= maxDigits && t.find_first_not_of("0123456789") == std::string::npos;
+}
+
 /// "A-B" or "A" with 0 <= A <= B: CLI11 validator (strict: "2-3x" is refused).
 std::string checkFrames(const std::string& s) {
   const size_t dash = s.find('-');
-  auto digits = [](const std::string& t) { return !t.empty() && t.size() <= 7 && t.find_first_not_of("0123456789") == std::string::npos; };
+  auto digits = [](const std::string& t) { return isCount(t, 7); };
   const std::string a = s.substr(0, dash), b = dash == std::string::npos ? a : s.substr(dash + 1);
   if (!digits(a) || !digits(b)) return "takes A-B or A (frame numbers, 0 <= A <= B), e.g. 0-30";
   if (std::stoi(a) > std::stoi(b)) return "takes A-B with A <= B";
@@ -61,7 +66,7 @@ std::string checkFrames(const std::string& s) {
 
 std::string checkResolution(const std::string& s) {
   const size_t x = s.find('x');
-  auto digits = [](const std::string& t) { return !t.empty() && t.size() <= 5 && t.find_first_not_of("0123456789") == std::string::npos; };
+  auto digits = [](const std::string& t) { return isCount(t, 5); };
   if (x == std::string::npos || !digits(s.substr(0, x)) || !digits(s.substr(x + 1)))
     return "takes WxH, e.g. 320x180";
   const int w = std::stoi(s.substr(0, x)), h = std::stoi(s.substr(x + 1));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "pipeline/process.h"
+#include "pipeline/report_util.h"
 #include "pipeline/run_folder.h"
 #include "render/render_frame.h"
 #include "sim/file_util.h"
@@ -24,10 +25,7 @@ namespace {
 
 double seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
-std::string formatDuration(double s) {
-  if (s < 60) return fmt::format("{:.1f}s", s);
-  return fmt::format("{}m{:02d}s", int(s / 60), int(s) % 60);
-}
+using report::formatDuration;
 
 // The output layout, in one place.
 fs::path particleFile(const fs::path& out, int f) { return out / "particles" / fmt::format("particles.{:04d}.vdb", f); }

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "vec3.h"
 
@@ -44,5 +45,19 @@ Real parallelMax(size_t n, F&& value) {
       [](Real a, Real b) { return std::max(a, b); });
 }
 
+/// Sum of f(i) for i < n in blocks of kGrain, added in block order: the same bits on any thread
+/// count (a parallel_reduce would add in the order the threads happen to finish).
+template <class F>
+Real blockSum(size_t n, F&& f) {
+  std::vector<Real> partial((n + kGrain - 1) / kGrain, 0);
+  tbb::parallel_for(size_t(0), partial.size(), [&](size_t b) {
+    Real s = 0;
+    for (size_t i = b * kGrain, e = std::min(n, (b + 1) * kGrain); i < e; ++i) s += f(i);
+    partial[b] = s;
+  });
+  Real total = 0;
+  for (Real s : partial) total += s;
+  return total;
+}
 
 }  // namespace mf

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "kernels.h"
 #include "scene_file.h"
@@ -29,14 +30,11 @@ constexpr double kBaseBytes = 64e6;     // program, libraries, TBB arenas
 // estimated (such scenes are refused by their memory estimate anyway).
 constexpr double kExactCountLimit = 2e7;
 
-double latticeCount(Real lo, Real hi, Real s, Real dlo, Real dhi) {
-  // The seeding lattice of one axis (see Simulation::seedFluid): n points centred in [lo, hi],
-  // of which those inside the domain [dlo, dhi] count.
-  const double n = std::max(0.0, std::floor((hi - lo) / s + 1e-6));
+/// Of n lattice points start + i s on one axis, how many lie in the domain's [dlo, dhi].
+double pointsInRange(int n, Real start, Real s, Real dlo, Real dhi) {
   if (n <= 0) return 0;
-  const double start = lo + 0.5 * ((hi - lo) - (n - 1) * s);
   const double first = std::max(0.0, std::ceil((dlo - start) / s - 1e-9));
-  const double last = std::min(n - 1, std::floor((dhi - start) / s + 1e-9));
+  const double last = std::min(double(n - 1), std::floor((dhi - start) / s + 1e-9));
   return std::max(0.0, last - first + 1);
 }
 
@@ -72,34 +70,25 @@ double solidArea(const SolidSpec& s) {
 struct BlockCount {
   double lattice = 0;  // lattice points inside the domain
   double seeded = 0;   // of those, the ones the block keeps (sphere, container, wall margin)
-  bool exact = false;
 };
 
 BlockCount countBlock(const Scene& sc, const FluidBlockSpec& f) {
   const Real s = sc.solver.particleSpacing;
-  Vec3 lo = f.min, hi = f.max;
-  if (f.shape == FluidBlockSpec::Shape::Sphere) {
-    lo = f.centre - Vec3(f.radius, f.radius, f.radius);
-    hi = f.centre + Vec3(f.radius, f.radius, f.radius);
-  }
+  const BlockLattice l = blockLattice(f, s);
   BlockCount c;
-  double n[3];
-  for (int a = 0; a < 3; ++a) n[a] = std::max(0.0, std::floor((hi[a] - lo[a]) / s + 1e-6));
   c.lattice = 1;
-  for (int a = 0; a < 3; ++a) c.lattice *= latticeCount(lo[a], hi[a], s, sc.domainMin[a], sc.domainMax[a]);
-  if (c.lattice == 0 || n[0] * n[1] * n[2] > kExactCountLimit) {
+  for (int a = 0; a < 3; ++a) c.lattice *= pointsInRange(l.n[a], l.start[a], s, sc.domainMin[a], sc.domainMax[a]);
+  if (c.lattice == 0 || double(l.n[0]) * l.n[1] * l.n[2] > kExactCountLimit) {
     c.seeded = f.shape == FluidBlockSpec::Shape::Sphere ? c.lattice * kPi / 6 : c.lattice;
     return c;
   }
-  // The same lattice and tests as the seeding, counted without storing a point (jitter aside).
-  c.exact = true;
-  Vec3 start;
-  for (int a = 0; a < 3; ++a) start[a] = lo[a] + 0.5 * ((hi[a] - lo[a]) - (n[a] - 1) * s);
+  // The seeding's own lattice and tests (Simulation::seedFluid), counted without storing a point
+  // (jitter aside).
   const SolidSpec* solid = f.insideSolid >= 0 ? &sc.solids[size_t(f.insideSolid)] : nullptr;
-  for (int k = 0; k < int(n[2]); ++k)
-    for (int j = 0; j < int(n[1]); ++j)
-      for (int i = 0; i < int(n[0]); ++i) {
-        const Vec3 x = start + Vec3(i * s, j * s, k * s);
+  for (int k = 0; k < l.n[2]; ++k)
+    for (int j = 0; j < l.n[1]; ++j)
+      for (int i = 0; i < l.n[0]; ++i) {
+        const Vec3 x = l.point(i, j, k, s);
         bool inDomain = true;
         for (int a = 0; a < 3; ++a) inDomain &= x[a] >= sc.domainMin[a] && x[a] <= sc.domainMax[a];
         if (!inDomain) continue;
@@ -217,9 +206,11 @@ double defaultMemoryLimit() {
   return 0.8 * limit;
 }
 
-SceneBudget estimateSceneBudget(const Scene& sc) {
+namespace {
+/// The estimate from the blocks' counts (one countBlock per block, in scene order).
+SceneBudget estimateFromCounts(const Scene& sc, const std::vector<BlockCount>& counts) {
   SceneBudget b;
-  for (const FluidBlockSpec& f : sc.fluids) b.particles += countBlock(sc, f).seeded;
+  for (const BlockCount& c : counts) b.particles += c.seeded;
   b.emitted = emittedParticles(sc);
   const Real bs = sc.solver.boundarySpacingRatio * sc.solver.particleSpacing;
   for (const SolidSpec& s : sc.solids) b.boundarySamples += solidArea(s) / (bs * bs);
@@ -240,6 +231,15 @@ SceneBudget estimateSceneBudget(const Scene& sc) {
   return b;
 }
 
+std::vector<BlockCount> countBlocks(const Scene& sc) {
+  std::vector<BlockCount> counts;
+  for (const FluidBlockSpec& f : sc.fluids) counts.push_back(countBlock(sc, f));
+  return counts;
+}
+}  // namespace
+
+SceneBudget estimateSceneBudget(const Scene& sc) { return estimateFromCounts(sc, countBlocks(sc)); }
+
 SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
   std::vector<SceneProblem> problems;
   auto problem = [&](const std::string& key, const std::string& message) {
@@ -248,13 +248,12 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
   const Real s = sc.solver.particleSpacing;
   // Fluid blocks: each must seed particles, and one inside an open container must stay below its
   // rim (above it the container is open, so the points would be seeded outside the glass).
-  double lattice = 0;
+  const std::vector<BlockCount> counts = countBlocks(sc);
   for (size_t k = 0; k < sc.fluids.size(); ++k) {
     const FluidBlockSpec& f = sc.fluids[k];
     const std::string key = fmt::format("fluid[{}]", k);
     const std::string shapeKey = key + (f.shape == FluidBlockSpec::Shape::Box ? ".max" : ".radius");
-    const BlockCount c = countBlock(sc, f);
-    lattice += c.lattice;
+    const BlockCount& c = counts[k];
     const Real top = f.shape == FluidBlockSpec::Shape::Box ? f.max.y : f.centre.y + f.radius;
     if (f.insideSolid >= 0) {
       const SolidSpec& solid = sc.solids[size_t(f.insideSolid)];
@@ -264,10 +263,8 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
                             top, solid.name, solidTop(solid)));
     }
     if (c.seeded > 0) continue;
-    Vec3 lo = f.min, hi = f.max;
-    if (f.shape == FluidBlockSpec::Shape::Sphere) lo = f.centre - Vec3(f.radius, f.radius, f.radius), hi = f.centre + Vec3(f.radius, f.radius, f.radius);
-    bool smaller = false;
-    for (int a = 0; a < 3; ++a) smaller |= hi[a] - lo[a] < s * (1 - 1e-6);
+    const BlockLattice l = blockLattice(f, s);
+    const bool smaller = l.n[0] == 0 || l.n[1] == 0 || l.n[2] == 0;  // no lattice point fits an axis
     if (smaller)
       problem(shapeKey, fmt::format("the block is smaller than one particle spacing ({:g} m) and seeds no particle", s));
     else if (c.lattice == 0)
@@ -279,7 +276,7 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
     else
       problem(shapeKey, "the block seeds no particle");
   }
-  const SceneBudget b = estimateSceneBudget(sc);
+  const SceneBudget b = estimateFromCounts(sc, counts);
   const double limit = limits.maxMemoryBytes > 0 ? limits.maxMemoryBytes : defaultMemoryLimit();
   auto mib = [](double bytes) { return bytes / (1024.0 * 1024.0); };
   if (b.memoryBytes > limit) {
@@ -308,7 +305,6 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
                              "(--max-steps-per-frame); change this key, or pass --force to run anyway",
                              b.restTimeStep, b.timeStepLimiter, b.stepsPerFrame, limits.maxStepsPerFrame));
   }
-  (void)lattice;
   if (!problems.empty()) throw SceneError(problems);
   return b;
 }

@@ -44,7 +44,9 @@ uint64_t hashText(const std::string& text) {
 int Scene::lineOf(const std::string& key) const {
   for (std::string k = key;;) {
     if (auto it = keyLines.find(k); it != keyLines.end()) return it->second;
-    const size_t cut = std::max(k.rfind('.'), k.rfind('[') == std::string::npos ? std::string::npos : k.rfind('['));
+    // The enclosing key: "fluid[0].max" -> "fluid[0]" -> "fluid".
+    const size_t dot = k.rfind('.'), bracket = k.rfind('[');
+    const size_t cut = dot == std::string::npos ? bracket : bracket == std::string::npos ? dot : std::max(dot, bracket);
     if (cut == std::string::npos || cut == 0) return 0;
     k = k.substr(0, cut);
   }

@@ -31,6 +31,21 @@ Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 90071992547
 
 }  // namespace
 
+BlockLattice blockLattice(const FluidBlockSpec& f, Real s) {
+  Vec3 lo = f.min, hi = f.max;
+  if (f.shape == FluidBlockSpec::Shape::Sphere) {
+    lo = f.centre - Vec3(f.radius, f.radius, f.radius);
+    hi = f.centre + Vec3(f.radius, f.radius, f.radius);
+  }
+  BlockLattice l;
+  for (int a = 0; a < 3; ++a) {
+    // Bounded so that a huge block cannot overflow int (the budget refuses such scenes first).
+    l.n[a] = int(std::min(1e9, std::max(0.0, std::floor((hi[a] - lo[a]) / s + 1e-6))));
+    l.start[a] = lo[a] + 0.5 * ((hi[a] - lo[a]) - (l.n[a] - 1) * s);
+  }
+  return l;
+}
+
 Real latticeKernelSum(const SphKernels& K, Real s) {
   return sumOverRestLattice(K, s, [&](int i, int j, int k) {
     const int r2 = i * i + j * j + k * k;
@@ -159,16 +174,8 @@ void Simulation::seedFluid() {
   std::vector<ParticleInit> candidates;
   for (size_t b = 0; b < scene_.fluids.size(); ++b) {
     const FluidBlockSpec& f = scene_.fluids[b];
-    Vec3 lo = f.min, hi = f.max;
-    if (f.shape == FluidBlockSpec::Shape::Sphere) {
-      lo = f.centre - Vec3(f.radius, f.radius, f.radius);
-      hi = f.centre + Vec3(f.radius, f.radius, f.radius);
-    }
-    int n[3];
-    for (int a = 0; a < 3; ++a) n[a] = std::max(0, int(std::floor((hi[a] - lo[a]) / s + 1e-6)));
-    // Centre the lattice in the block so that it sits half a spacing from each face.
-    Vec3 start;
-    for (int a = 0; a < 3; ++a) start[a] = lo[a] + 0.5 * ((hi[a] - lo[a]) - (n[a] - 1) * s);
+    const BlockLattice lattice = blockLattice(f, s);
+    const int* n = lattice.n;
     Real cumulative = 0;
     std::vector<Real> cdf;
     for (Real w : f.fractions) cdf.push_back(cumulative += w);
@@ -177,7 +184,7 @@ void Simulation::seedFluid() {
         for (int i = 0; i < n[0]; ++i) {
           const uint64_t latticeIndex = (uint64_t(b) << 48) ^ (uint64_t(k) << 32) ^ (uint64_t(j) << 16) ^ uint64_t(i);
           const uint64_t rngBase = splitmix(f.seed * 0x100000001b3ULL ^ latticeIndex);
-          Vec3 x = start + Vec3(i * s, j * s, k * s);
+          Vec3 x = lattice.point(i, j, k, s);
           if (f.jitter > 0)
             x += Vec3(uniform01(rngBase + 1) - 0.5, uniform01(rngBase + 2) - 0.5, uniform01(rngBase + 3) - 0.5) *
                  (2 * f.jitter * s);
@@ -372,13 +379,17 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
   times_.integrate += since(t0);
 }
 
-void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
+void Simulation::accelerate(Real dt, const std::vector<Vec3>& v0) {
   const auto t0 = Clock::now();
-  // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), then x(t+dt) = x + dt v(t+dt) in advect.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) ps_.velocity[i] = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
   });
   times_.integrate += since(t0);
+}
+
+void Simulation::integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0) {
+  // Symplectic Euler: v(t+dt) = v + dt F/m (eq. 8), then x(t+dt) = x + dt v(t+dt).
+  accelerate(dt, v0);
   advect(dt, x0);
 }
 

@@ -104,6 +104,8 @@ class Simulation {
   void accumulateForces();
   Real chooseDt() const;
   void integrate(Real dt, const std::vector<Vec3>& x0, const std::vector<Vec3>& v0);
+  /// v = v0 + dt F/m (the velocity half of integrate; DFSPH's prediction).
+  void accelerate(Real dt, const std::vector<Vec3>& v0);
   /// x = x0 + dt v with the container clamp (the position half of integrate).
   void advect(Real dt, const std::vector<Vec3>& x0);
   /// The motion of one step, by the chosen pressure solver; returns the dt taken.
@@ -152,6 +154,16 @@ Real sumOverRestLattice(const SphKernels& kernels, Real spacing, F&& f) {
       for (int i = -n; i <= n; ++i) sum += f(i, j, k);
   return sum;
 }
+
+/// The seeding lattice of a fluid block: n[a] points per axis, `spacing` apart from `start`,
+/// centred in the block's box (a sphere's bounding box) half a spacing from each face. The
+/// seeding and the scene budget's count (scene_budget.cpp) both walk this one lattice.
+struct BlockLattice {
+  int n[3] = {0, 0, 0};
+  Vec3 start;
+  Vec3 point(int i, int j, int k, Real spacing) const { return start + Vec3(i * spacing, j * spacing, k * spacing); }
+};
+BlockLattice blockLattice(const FluidBlockSpec& block, Real spacing);
 
 /// Sum over a cubic lattice of spacing s of the density kernel within h (the centre weighted by
 /// selfWeight): the

@@ -19,9 +19,7 @@ Real Simulation::stepDfsph(Real maxDt) {
   savedVelocity_ = ps_.velocity;
   const std::vector<Real> savedPressure = ps_.pressure, savedDivergence = ps_.divergencePressure;
   for (int attempt = 0;; ++attempt) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i) ps_.velocity[i] = savedVelocity_[i] + ps_.force[i] * (dt / ps_.mass[i]);
-    });
+    accelerate(dt, savedVelocity_);  // v* from the non-pressure forces
     const auto t0 = Clock::now();
     const PressureSolveStats density = dfsph_->solveDensity(context(), ps_, dt);
     times_.pressure += since(t0);

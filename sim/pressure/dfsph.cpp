@@ -1,5 +1,7 @@
 #include "sim/pressure/dfsph.h"
 
+#include "sim/parallel_util.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -8,28 +10,14 @@
 namespace mf {
 
 namespace {
-constexpr size_t kBlock = 1024;
 constexpr Real kRelaxation = 0.5;
-}
-
-template <class F>
-Real DfsphSolver::blockSum(size_t n, F&& f) const {
-  std::vector<Real> partial((n + kBlock - 1) / kBlock, 0);
-  tbb::parallel_for(size_t(0), partial.size(), [&](size_t b) {
-    Real s = 0;
-    for (size_t i = b * kBlock, e = std::min(n, (b + 1) * kBlock); i < e; ++i) s += f(i);
-    partial[b] = s;
-  });
-  Real total = 0;
-  for (Real s : partial) total += s;  // fixed order
-  return total;
 }
 
 void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps) {
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
   diagonal_.resize(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps.position[i];
       Vec3 grad;
@@ -56,7 +44,7 @@ void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
   rate_.resize(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps.position[i], vi = ps.velocity[i];
       Real rate = 0;
@@ -78,7 +66,7 @@ void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
 void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt) {
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps.position[i];
       const Real pi = p[i];
@@ -102,35 +90,31 @@ void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const s
   });
 }
 
-PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
+template <class Error>
+PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
+                                        Real errorScale, Real tolerance, Error&& error) {
   const size_t n = ps.size();
   PressureSolveStats stats;
   if (n == 0) return stats;
-  std::vector<Real>& p = ps.pressure;
-  // Warm start: last step's pressure (hydrostatic pressure persists from step to step).
+  // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
   applyPressure(ctx, ps, p, dt);
   delta_.resize(n);
-  const Real inv = 1 / (dt * dt);
   for (int it = 0; it < settings_.maxIterations; ++it) {
     densityRate(ctx, ps);
-    // theta* = theta + dt d(theta)/dt; Jacobi step on the pressure, kept >= 0.
-    Real maxErr = 0;
+    // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
+    // fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
+    // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
     const Real sum = blockSum(n, [&](size_t i) {
-      // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
-      // fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
-      // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
-      const Real err = ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1;
-      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * inv / diagonal_[i]) : Real(0);
+      const Real err = error(i);
+      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * stepScale / diagonal_[i]) : Real(0);
       delta_[i] = next - p[i];
       // The error left: compression anywhere, and expansion where a pressure still pushes.
-      return next > 0 ? std::fabs(err) : std::max(err, Real(0));
+      return (next > 0 ? std::fabs(err) : std::max(err, Real(0))) * errorScale;
     });
-    for (size_t i = 0; i < n; ++i)
-      maxErr = std::max(maxErr, ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1);
     stats.iterations = it;
     stats.meanError = sum / Real(n);
-    stats.maxError = maxErr;
-    if (it >= settings_.minIterations && stats.meanError <= settings_.densityTolerance) return stats;
+    stats.maxError = parallelMax(n, [&](size_t i) { return error(i) * errorScale; });
+    if (it >= settings_.minIterations && stats.meanError <= tolerance) return stats;
     for (size_t i = 0; i < n; ++i) p[i] += delta_[i];
     applyPressure(ctx, ps, delta_, dt);
   }
@@ -139,35 +123,19 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   return stats;
 }
 
+PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
+  // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
+  return iterate(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance,
+                 [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; });
+}
+
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {
-  const size_t n = ps.size();
-  PressureSolveStats stats;
-  if (n == 0) return stats;
-  std::vector<Real>& p = ps.divergencePressure;
-  applyPressure(ctx, ps, p, dt);
-  delta_.resize(n);
-  const Real inv = 1 / dt;
-  for (int it = 0; it < settings_.maxIterations; ++it) {
-    densityRate(ctx, ps);
-    const Real sum = blockSum(n, [&](size_t i) {
-      // Only where the fluid is (about to be) at rest density: a free surface may expand.
-      // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free
-      // surface, a splash) it may expand, and only a pressure left from before is undone.
-      const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
-      const Real err = dense ? rate_[i] : std::min(rate_[i], Real(0));
-      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * inv / diagonal_[i]) : Real(0);
-      delta_[i] = next - p[i];
-      return (next > 0 ? std::fabs(err) : std::max(err, Real(0))) * dt;
-    });
-    stats.iterations = it;
-    stats.meanError = sum / Real(n);
-    if (it >= settings_.minIterations && stats.meanError <= settings_.divergenceTolerance) return stats;
-    for (size_t i = 0; i < n; ++i) p[i] += delta_[i];
-    applyPressure(ctx, ps, delta_, dt);
-  }
-  stats.iterations = settings_.maxIterations;
-  stats.converged = false;
-  return stats;
+  // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free surface,
+  // a splash) it may expand, and only a pressure left from before is undone.
+  return iterate(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, [&](size_t i) {
+    const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
+    return dense ? rate_[i] : std::min(rate_[i], Real(0));
+  });
 }
 
 }  // namespace mf

@@ -64,9 +64,11 @@ class DfsphSolver {
   void densityRate(const StepContext& ctx, const ParticleSet& ps);
   /// v_i -= dt a_i for the pressure field `p` (the acceleration above).
   void applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt);
-  /// Sum over particles in fixed blocks (thread-count independent bits).
-  template <class F>
-  Real blockSum(size_t n, F&& f) const;
+  /// The Jacobi iterations both solves share: p_i += omega error_i stepScale / D_i (kept >= 0)
+  /// until the mean |error| x errorScale is below `tolerance`.
+  template <class Error>
+  PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
+                             Real errorScale, Real tolerance, Error&& error);
 
   DfsphSettings settings_;
   std::vector<Real> diagonal_, rate_, delta_;
