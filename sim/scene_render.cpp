@@ -1,0 +1,140 @@
+// [render] of a scene file: image, camera, sky, light, table, and the materials of phases and
+// solids (defaults by fluid name, so that a scene needs no [render] table to render well).
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "scene_reader.h"
+
+namespace mf::scene_reading {
+
+namespace {
+
+/// Good looks for common fluid names, so that a scene needs no [render] table to render well.
+MaterialSpec defaultPhaseMaterial(const std::string& name) {
+  MaterialSpec m;
+  auto has = [&](const char* w) { return name.find(w) != std::string::npos; };
+  if (has("oil")) {
+    m.ior = 1.47;
+    m.absorption = {1.0, 3.0, 25.0};  // yellow
+  } else if (has("air") || has("vapour") || has("vapor") || has("bubble")) {
+    m.ior = 1.0;
+    m.priority = 20;  // a bubble inside water wins over the water around it
+  } else if (has("wax") || has("lava")) {
+    m.kind = MaterialSpec::Kind::Medium;
+    m.ior = 1.44;
+    m.absorption = {2.0, 30.0, 40.0};  // red-orange
+    m.scattering = 150;
+  } else if (has("flame")) {
+    m.kind = MaterialSpec::Kind::Emitter;
+    m.emission = {8, 3, 0.5};
+  } else {
+    m.ior = 1.33;
+    m.absorption = {4.0, 1.2, 0.8};  // water: faintly blue-green at 10 cm
+  }
+  return m;
+}
+
+MaterialSpec defaultSolidMaterial() {
+  MaterialSpec m;
+  m.ior = 1.5;
+  m.absorption = {0.4, 0.2, 0.3};
+  m.priority = 100;  // glass bounds the liquid: where meshes overlap, glass wins
+  return m;
+}
+
+void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
+  const std::string kind = t.text("kind", "", {"dielectric", "medium", "diffuse", "emitter"});
+  if (kind == "dielectric") m.kind = MaterialSpec::Kind::Dielectric;
+  else if (kind == "medium") m.kind = MaterialSpec::Kind::Medium;
+  else if (kind == "diffuse") m.kind = MaterialSpec::Kind::Diffuse;
+  else if (kind == "emitter") m.kind = MaterialSpec::Kind::Emitter;
+  m.ior = t.number("ior", m.ior, 1, 4);
+  m.absorption = t.vec3("absorption", m.absorption, 0, 1e6, "1/m");
+  m.scattering = t.number("scattering", m.scattering, 0, 1e6, "1/m");
+  m.colour = t.vec3("colour", m.colour, 0, 1, "(albedo)");
+  m.emission = t.vec3("emission", m.emission, 0, 1e6, "(relative radiance)");
+  m.priority = t.integer("priority", m.priority, 0, 1000);
+  if (solid) {
+    m.thickness = t.number("thickness", m.thickness, 0, 10, "m", true);
+    m.visible = t.boolean("visible", m.visible);
+  }
+}
+
+}  // namespace
+
+// The materials are read last: a [render.material.NAME] may name any phase or solid.
+void readRender(Reader& r, TableReader& top, Scene& sc) {
+  RenderSettings& o = sc.render;
+  for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name));
+  o.solidMaterials.assign(sc.solids.size(), defaultSolidMaterial());
+  TableReader t(r, top.table("render"), "render");
+  o.width = t.integer("width", o.width, 8, 16384, "pixels");
+  o.height = t.integer("height", o.height, 8, 16384, "pixels");
+  o.samples = t.integer("samples", o.samples, 1, 1e5, "per pixel");
+  o.maxDepth = t.integer("max_depth", o.maxDepth, 1, 1000, "bounces");
+  o.indirectClamp = t.number("indirect_clamp", o.indirectClamp, 0, 1e9, "(relative radiance; 0 = off)");
+  if (t.has("phases")) {
+    const toml::node* pn = t.node("phases");
+    const toml::array* pa = pn->as_array();
+    if (!pa) r.problem(pn, "render.phases", "expected an array of phase names");
+    else
+      for (const toml::node& e : *pa) {
+        const int pi = sc.phaseIndex(e.value<std::string>().value_or(""));
+        if (pi < 0) r.problem(&e, "render.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
+        else if (std::find(sc.surfacing.phases.begin(), sc.surfacing.phases.end(), pi) == sc.surfacing.phases.end())
+          r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is not in surfacing.phases, so it has no level set to render");
+        else if (std::find(o.phases.begin(), o.phases.end(), uint16_t(pi)) != o.phases.end())
+          r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is listed twice");
+        else o.phases.push_back(uint16_t(pi));
+      }
+  } else {
+    o.phases = sc.surfacing.phases;
+  }
+  o.cameraPosition = t.vec3("camera_position", o.cameraPosition);
+  o.lookAt = t.vec3("look_at", o.lookAt);
+  o.fov = t.number("fov", o.fov, 1, 170, "degrees", false);
+  o.skyZenith = t.vec3("sky_zenith", o.skyZenith, 0, 1e6, "(relative radiance)");
+  o.skyHorizon = t.vec3("sky_horizon", o.skyHorizon, 0, 1e6, "(relative radiance)");
+  o.skyGround = t.vec3("sky_ground", o.skyHorizon * 0.25, 0, 1e6, "(relative radiance)");
+  o.lightPosition = t.vec3("light_position", o.lightPosition);
+  o.lightRadius = t.number("light_radius", o.lightRadius, 0, 1e6, "m");
+  o.lightEmission = t.vec3("light_emission", o.lightEmission, 0, 1e9, "(relative radiance)");
+  o.floor = t.boolean("floor", o.floor);
+  o.checkerSize = t.number("checker_size", o.checkerSize, 0, 1e6, "m");
+  if (const toml::table* mt = t.table("material")) {
+    TableReader materials(r, mt, "render.material");
+    for (auto&& [k, v] : *mt) {
+      const std::string name(k.str());
+      const toml::table* entry = materials.table(name);
+      if (!entry) continue;
+      TableReader e(r, entry, "render.material." + name);
+      const int pi = sc.phaseIndex(name);
+      int si = -1;
+      for (size_t j = 0; j < sc.solids.size(); ++j)
+        if (sc.solids[j].name == name) si = int(j);
+      if (pi >= 0) readMaterial(e, o.phaseMaterials[pi], false);
+      else if (si >= 0) readMaterial(e, o.solidMaterials[si], true);
+      else {
+        std::string known;
+        for (const auto& p : sc.phases) known += (known.empty() ? "" : ", ") + p.name;
+        for (const auto& s : sc.solids) known += (known.empty() ? "" : ", ") + s.name;
+        r.problem(&v, "render.material." + name, "names no phase or solid; defined: " + known);
+        for (auto&& [kk, vv] : *entry) e.node(std::string(kk.str()));  // not reported again
+      }
+    }
+  }
+  // Default table top: under the lowest solid's outer wall, or the domain's floor.
+  o.floorHeight = sc.domainMin.y;
+  for (size_t j = 0; j < sc.solids.size(); ++j) {
+    const SolidSpec& s = sc.solids[j];
+    const Real bottom = s.shape == SolidSpec::Shape::Box ? s.min.y
+                        : s.shape == SolidSpec::Shape::Cylinder ? s.base.y
+                                                                : s.base.y + (s.profile.empty() ? 0 : s.profile.front().first);
+    o.floorHeight = std::min(o.floorHeight, bottom - o.solidMaterials[j].thickness);
+  }
+  o.floorHeight = t.number("floor_height", o.floorHeight, -1e6, 1e6, "m");
+}
+
+
+}  // namespace mf::scene_reading
