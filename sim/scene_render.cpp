@@ -63,7 +63,7 @@ void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
 
 }  // namespace
 
-// The materials are read last: a [render.material.NAME] may name any phase or solid.
+/// See scene_reader.h.
 void readRender(Reader& r, TableReader& top, Scene& sc) {
   RenderSettings& o = sc.render;
   for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name));
