@@ -121,16 +121,17 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   }
 
   const Real wallSpacing = st.particleSpacing * st.boundarySpacingRatio;
-  wallOffset_ = wallSampleOffset(kernels_, st.particleSpacing, wallSpacing);
+  const bool implicit = st.pressure == PressureSolverChoice::DFSPH;
+  const WallCalibration wall0 = implicit ? calibrateImplicitWall(kernels_, st.particleSpacing, wallSpacing) : WallCalibration{};
+  wallOffset_ = implicit ? wall0.offset : wallSampleOffset(kernels_, st.particleSpacing, wallSpacing);
   std::vector<Vec3> wall = sampleSolidSurfaces(scene_.solids, wallSpacing, wallOffset_);
   Vec3 lo = scene_.domainMin;
   for (const Vec3& p : wall) lo = cwiseMin(lo, p);
   gridOrigin_ = lo - Vec3(kernels_.h, kernels_.h, kernels_.h);
-  boundary_ = makeBoundarySamples(std::move(wall), kernels_, gridOrigin_);
+  boundary_ = makeBoundarySamples(std::move(wall), kernels_, gridOrigin_, wall0.volumeScale);
   if (boundary_.size() > 0) boundaryGrid_.build(boundary_.position.data(), boundary_.size(), gridOrigin_, kernels_.h);
 
   AttributeMask attributes = 0;
-  const bool implicit = st.pressure == PressureSolverChoice::DFSPH;
   for (const EffectSpec& spec : scene_.effects) {
     const EffectInfo* info = findEffect(spec.name);
     if (!info) throw std::invalid_argument("unknown effect " + spec.name);
@@ -143,6 +144,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     ds.densityTolerance = st.densityTolerance;
     ds.divergenceTolerance = st.divergenceTolerance;
     ds.maxIterations = st.maxPressureIterations;
+    ds.wallFactor = wall0.mirrorFactor;
     dfsph_ = std::make_unique<DfsphSolver>(ds);
     attributes |= bit(Attribute::DivergencePressure);
   }
@@ -160,6 +162,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   ps_.enable(attributes);
 
   seedFluid();
+  if (dfsph_) seedHydrostaticPressure();
   for (const auto& e : effects_) e->prepare(ps_);
   refresh();
 }

@@ -99,6 +99,7 @@ class Simulation {
 
  private:
   void seedFluid();
+  void seedHydrostaticPressure();
   void searchAndDensity();
   void computePressure();
   void accumulateForces();

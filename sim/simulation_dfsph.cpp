@@ -6,11 +6,57 @@
 // walls inside the solve that count is what the clamp-free walls are measured by.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "parallel_util.h"
 #include "pressure/dfsph.h"
 #include "simulation.h"
 
 namespace mf {
+
+void Simulation::seedHydrostaticPressure() {
+  // The solver's warm start begins at the weight of the fluid above each particle, p_i = |g|
+  // (sum of m_j / s^2 over its lattice column above, plus half its own), so a fluid seeded at
+  // rest starts in hydrostatic balance instead of falling for the first steps while Jacobi
+  // carries the pressure up from the floor. Only a guess: the solve still sets the pressure.
+  Vec3 g;
+  for (const EffectSpec& e : scene_.effects)
+    if (e.name == "gravity") g = e.vector("acceleration");
+  const Real gn = length(g), s = scene_.solver.particleSpacing;
+  if (gn == 0 || ps_.size() == 0) return;
+  const Vec3 up = g * (-1 / gn);
+  // Two axes across gravity name a column; the height along `up` orders it.
+  const Vec3 a = std::fabs(up.x) < 0.9 ? normalize(cross(up, Vec3(1, 0, 0))) : normalize(cross(up, Vec3(0, 1, 0)));
+  const Vec3 b = cross(up, a);
+  struct Entry {
+    int64_t u, v;
+    Real height;
+    size_t index;
+  };
+  std::vector<Entry> order(ps_.size());
+  for (size_t i = 0; i < ps_.size(); ++i) {
+    const Vec3 x = ps_.position[i];
+    order[i] = {std::llround(dot(x, a) / s), std::llround(dot(x, b) / s), dot(x, up), i};
+  }
+  std::sort(order.begin(), order.end(), [](const Entry& l, const Entry& r) {
+    if (l.u != r.u) return l.u < r.u;
+    if (l.v != r.v) return l.v < r.v;
+    if (l.height != r.height) return l.height > r.height;
+    return l.index < r.index;
+  });
+  const Real perArea = gn / (s * s);
+  for (size_t k = 0; k < order.size();) {
+    Real above = 0;
+    size_t e = k;
+    for (; e < order.size() && order[e].u == order[k].u && order[e].v == order[k].v; ++e) {
+      const Real m = ps_.mass[order[e].index];
+      ps_.pressure[order[e].index] = perArea * (above + 0.5 * m);
+      above += m;
+    }
+    k = e;
+  }
+}
 
 Real Simulation::stepDfsph(Real maxDt) {
   accumulateForces();  // every effect but pressure: the solver is the pressure force

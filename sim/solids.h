@@ -22,9 +22,25 @@ std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real
 /// (bisection) with the discrete lattice sums of the kernel actually used.
 Real wallSampleOffset(const SphKernels& kernels, Real particleSpacing, Real boundarySpacing);
 
+/// The single sample layer of the walls as DFSPH uses it. Two conditions on the seeding lattice
+/// fix the layer's depth and a scale on its Akinci volumes: the first fluid layer (half a
+/// spacing from the surface) is at rest density, and a lone particle reaches rest density with
+/// its centre on the surface, so that the constant-density solve stops a splash at the wall
+/// instead of inside it. The mirror factor weights the wall in the density rate and the pressure
+/// force: a particle moving into the wall approaches its own mirror image, which carries its
+/// pressure, so both count the wall about twice; it is solved so that a uniform pressure pushes
+/// the first layer as the missing half-lattice would (2 |sum_j V_j grad W_ij| over it). The
+/// same factor in the rate and the force keeps the pressure the adjoint of the constraint.
+struct WallCalibration {
+  Real offset = 0;       // depth of the sample layer below the surface, m
+  Real volumeScale = 1;  // on V_b = 1 / sum_k W_bk
+  Real mirrorFactor = 1;
+};
+WallCalibration calibrateImplicitWall(const SphKernels& kernels, Real particleSpacing, Real boundarySpacing);
+
 /// Akinci volumes Vb = 1 / sum_k W(x_b - x_k) over boundary samples within h.
 BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
-                                    const Vec3& gridOrigin);
+                                    const Vec3& gridOrigin, Real volumeScale = 1);
 
 /// True if p lies in the fluid region of the solid (inside a container), grown by `margin`.
 bool insideFluidRegion(const SolidSpec& solid, const Vec3& p, Real margin = 0);

@@ -20,7 +20,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps.position[i];
-      Vec3 grad;
+      Vec3 grad, gradB;
       Real others = 0;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
         const uint32_t j = ctx.fluidNeighbors.indices[k];
@@ -33,9 +33,9 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = xi - ctx.boundary.position[b];
-        grad += K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
+        gradB += K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
       }
-      diagonal_[i] = lengthSquared(grad) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
+      diagonal_[i] = lengthSquared(grad + settings_.wallFactor * gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
     }
   });
 }
@@ -56,7 +56,7 @@ void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = xi - ctx.boundary.position[b];
-        rate += ctx.boundary.volume[b] * dot(vi, K.pressureGrad(rib, lengthSquared(rib)));
+        rate += settings_.wallFactor * ctx.boundary.volume[b] * dot(vi, K.pressureGrad(rib, lengthSquared(rib)));
       }
       rate_[i] = rate;
     }
@@ -82,7 +82,7 @@ void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const s
         for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
           const uint32_t b = ctx.boundaryNeighbors.indices[k];
           const Vec3 rib = xi - ctx.boundary.position[b];
-          acc += K.pressureGrad(rib, lengthSquared(rib)) * (ctx.boundary.volume[b] * pi);
+          acc += K.pressureGrad(rib, lengthSquared(rib)) * (settings_.wallFactor * ctx.boundary.volume[b] * pi);
         }
       // Velocities are read (positions only) and written per particle: no race.
       ps.velocity[i] -= acc * (dt / ps.restDensity[i]);

@@ -3,14 +3,20 @@
 //
 // The constraint is the density contrast form (Solenthaler & Pajarola 2008; SPlisHSPlasH's
 // multiphase): theta_i = rho_i / rho0_i = sum_j V_j W_ij + sum_b V_b W_ib = 1, with V_j = m_j /
-// rho0_j the rest volumes and V_b the Akinci volumes of the wall samples. A light particle next
-// to a heavy one sees the heavy one's volume, not its mass, so interfaces stay sharp at 1:1000.
-// The pressure acceleration is the antisymmetric pair form
-//   a_i = -(1/rho0_i) [ sum_j V_j (p_i + p_j) grad W_ij + sum_b V_b p_i grad W_ib ]
-// (walls carry the particle's own pressure, as in SPlisHSPlasH's DFSPH), so F_i = m_i a_i
-// conserves momentum between fluid particles. Its diagonal, with all other pressures zero,
-// gives the Jacobi step of both solves:
-//   D_i = |sum_j V_j grad W_ij + sum_b V_b grad W_ib|^2 / rho0_i + V_i sum_j V_j |grad W_ij|^2 / rho0_j
+// rho0_j the rest volumes and V_b the Akinci volumes of the wall samples (calibrated by
+// calibrateImplicitWall, sim/solids.h). A light particle next to a heavy one sees the heavy one's
+// volume, not its mass, so interfaces stay sharp at 1:1000. The pressure acceleration is the
+// antisymmetric pair form
+//   a_i = -(1/rho0_i) [ sum_j V_j (p_i + p_j) grad W_ij + gamma sum_b V_b p_i grad W_ib ]
+// so F_i = m_i a_i conserves momentum between fluid particles. The wall is a mirror: its sample
+// carries the particle's own pressure, and gamma (about 1.7, WallCalibration::mirrorFactor) makes
+// a uniform pressure push the first layer off the wall as hard as the fluid pushes it on; with
+// gamma = 1 (SPlisHSPlasH's choice) the first layer of a still tank is pulled into the floor at
+// 0.18 m/s per 5 ms step and the tank never settles. The density rate counts the wall with the
+// same gamma, so the force stays the adjoint of the constraint: a wall factor in the force alone
+// fed energy in (a still tank reached 0.9 m/s at gamma = 1.9). Its diagonal, with all other
+// pressures zero, gives the Jacobi step of both solves:
+//   D_i = |sum_j V_j grad W_ij + gamma sum_b V_b grad W_ib|^2 / rho0_i + V_i sum_j V_j |grad W_ij|^2 / rho0_j
 //   constant density:  p_i += (theta*_i - 1) / (dt^2 D_i),  theta*_i = theta_i + dt d(theta_i)/dt
 //   divergence-free:   p_i += d(theta_i)/dt / (dt D_i)
 // grad W is the pressure force's gradient (lattice-normalised, sim/kernels.h), in the force and in
@@ -35,6 +41,7 @@ struct DfsphSettings {
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
   int maxIterations = 100;
   int minIterations = 2;
+  Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
 };
 
 struct PressureSolveStats {
