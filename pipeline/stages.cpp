@@ -202,6 +202,8 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
   int done = 0, skipped = 0, missing = 0;
   uint64_t rays = 0;
   double traceSeconds = 0;
+  if (!scene.render.cameraFraming.empty()) fmt::print(stderr, "render: {}\n", scene.render.cameraFraming);
+  std::vector<int> unseen, empty;
   for (int f = opt.firstFrame; f <= lastFrame; ++f) {
     if (records.verify("render", f)) {
       ++skipped;
@@ -224,6 +226,8 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
     discardFrame(records, "render", f, {exr, png});
     const auto r = render::renderFrame(surfaceFile(out, f).string(), scene, exr.string(), png.string(), f, progress);
     records.write("render", f, {exr, png});
+    if (!r.anyFluid) empty.push_back(f);
+    else if (r.fluidCoverage == 0) unseen.push_back(f);
     ++done;
     rays += r.rays;
     traceSeconds += r.seconds;
@@ -235,6 +239,15 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
   }
   const double total = seconds(Clock::now() - t0);
   if (missing > 0) fmt::print(stderr, "render: {} frame(s) have no finished surface file yet (run the surface stage)\n", missing);
+  auto list = [](const std::vector<int>& v) {
+    std::string s;
+    for (size_t k = 0; k < v.size() && k < 10; ++k) s += (k ? ", " : "") + std::to_string(v[k]);
+    return v.size() > 10 ? s + fmt::format(" and {} more", v.size() - 10) : s;
+  };
+  if (!empty.empty()) fmt::print(stderr, "warning: {} frame(s) have no fluid surface to render (frames {})\n", empty.size(), list(empty));
+  if (!unseen.empty())
+    fmt::print(stderr, "warning: the camera sees no fluid in {} frame(s) (frames {}): check render.camera_position and look_at\n",
+               unseen.size(), list(unseen));
   return fmt::format("  render        {:>8.2f} s   {} frame(s) rendered ({:.2f} s each, {:.2f} Mrays/s), {} already done\n", total,
                      done, done > 0 ? total / done : 0.0, traceSeconds > 0 ? rays / traceSeconds / 1e6 : 0.0, skipped);
 }

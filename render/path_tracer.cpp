@@ -4,6 +4,7 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 
@@ -648,6 +650,47 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   return image;
 }
 
+double PathTracer::coverage(const std::function<bool(const Surface&)>& counts) const {
+  const Impl& im = *impl_;
+  const RenderSettings& s = im.settings;
+  const Real tanHalf = std::tan(0.5 * s.fov * M_PI / 180), aspect = Real(s.width) / s.height;
+  std::vector<uint8_t> accept(im.surfaces.size());
+  for (size_t g = 0; g < im.surfaces.size(); ++g) accept[g] = counts(im.surfaces[g]);
+  const uint64_t covered = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, s.height), uint64_t(0),
+      [&](const tbb::blocked_range<int>& rows, uint64_t n) {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        for (int y = rows.begin(); y < rows.end(); ++y)
+          for (int x = 0; x < s.width; ++x) {
+            const Vec3 d = unit(im.camW + im.camU * ((2 * (x + 0.5) / s.width - 1) * tanHalf * aspect) +
+                                im.camV * ((1 - 2 * (y + 0.5) / s.height) * tanHalf));
+            float tnear = 0;
+            for (int bounce = 0; bounce < 64; ++bounce) {
+              RTCRayHit rh;
+              rh.ray.org_x = float(s.cameraPosition.x), rh.ray.org_y = float(s.cameraPosition.y), rh.ray.org_z = float(s.cameraPosition.z);
+              rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
+              rh.ray.tnear = tnear;
+              rh.ray.tfar = std::numeric_limits<float>::infinity();
+              rh.ray.mask = 0xFFFFFFFF;
+              rh.ray.flags = 0;
+              rh.ray.time = 0;
+              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+              rtcIntersect1(im.scene, &context, &rh);
+              if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+              if (accept[rh.hit.geomID]) {
+                ++n;
+                break;
+              }
+              tnear = rh.ray.tfar * (1 + 1e-6f) + float(im.epsilon);
+            }
+          }
+        return n;
+      },
+      std::plus<uint64_t>());
+  return s.width > 0 && s.height > 0 ? double(covered) / (double(s.width) * s.height) : 0;
+}
+
 double PathTracer::traceBare(const std::vector<RecordedRay>& rays) const {
   const auto t0 = Clock::now();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
@@ -674,7 +717,7 @@ std::vector<Surface> solidSurfaces(const Scene& scene) {
   for (size_t i = 0; i < scene.solids.size(); ++i) {
     const MaterialSpec& m = scene.render.solidMaterials.at(i);
     if (!m.visible) continue;
-    out.push_back({scene.solids[i].name.empty() ? "solid" : scene.solids[i].name, solidMesh(scene.solids[i], m.thickness), m});
+    out.push_back({scene.solids[i].name.empty() ? "solid" : scene.solids[i].name, solidMesh(scene.solids[i], m.thickness), m, true});
   }
   return out;
 }

@@ -23,6 +23,7 @@ struct Surface {
   std::string name;
   RenderMesh mesh;
   MaterialSpec material;
+  bool solid = false;  // a container or obstacle (solidSurfaces), not a fluid
 };
 
 struct RenderStats {
@@ -48,6 +49,10 @@ class PathTracer {
   Image render(int frame, RenderStats* stats = nullptr,
                const std::function<void(int, int)>& progress = {},
                std::vector<RecordedRay>* record = nullptr) const;
+
+  /// The fraction of pixels whose centre ray, followed straight through every surface that
+  /// `counts` rejects (glass walls), meets one it accepts: what a frame shows of the fluid.
+  double coverage(const std::function<bool(const Surface&)>& counts) const;
 
   /// Casts `rays` with plain rtcIntersect1 and nothing else; returns wall seconds.
   double traceBare(const std::vector<RecordedRay>& rays) const;

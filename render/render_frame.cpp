@@ -64,7 +64,8 @@ std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> readLevelSets(const st
 RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
                               const std::string& pngPath, int frame, const std::function<void(int, int)>& progress) {
   RenderFrameResult result;
-  if ((exrPath.empty() || fs::exists(exrPath)) && (pngPath.empty() || fs::exists(pngPath))) {
+  const bool coverageOnly = exrPath.empty() && pngPath.empty();
+  if (!coverageOnly && (exrPath.empty() || fs::exists(exrPath)) && (pngPath.empty() || fs::exists(pngPath))) {
     result.skipped = true;
     return result;
   }
@@ -78,10 +79,14 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
     RenderMesh mesh = levelSetMesh(*grid);
     if (mesh.size() > 0) surfaces.push_back({scene.phases[p].name, std::move(mesh), scene.render.phaseMaterials[p]});
   }
+  result.anyFluid = !surfaces.empty();
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
   PathTracer tracer(std::move(surfaces), scene.render);
   result.triangles = tracer.triangleCount();
   result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // Solids are glass to see through: what counts is a fluid's surface behind them.
+  result.fluidCoverage = tracer.coverage([](const Surface& s) { return !s.solid; });
+  if (coverageOnly) return result;
   RenderStats stats;
   const Image image = tracer.render(frame, &stats, progress);
   result.rays = stats.rays;

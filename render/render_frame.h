@@ -15,12 +15,15 @@ struct RenderFrameResult {
   double seconds = 0;     // tracing only
   double setupSeconds = 0;  // reading, meshing, building the BVH
   size_t triangles = 0;
+  double fluidCoverage = 0;  // fraction of pixels that show a fluid surface (PathTracer::coverage)
+  bool anyFluid = false;     // a rendered phase had a surface at all
 };
 
 /// Renders frame `frame` of `scene` from `surfaceFile` into `exrPath` and `pngPath` (either may
 /// be empty). Each phase in scene.render.phases must be a level set in the file, and the file
 /// must pass its checksum; else a std::runtime_error naming the file. `progress(done, total)`
-/// reports rows.
+/// reports rows. With both paths empty nothing is traced: the result says only what the camera
+/// sees (fluidCoverage).
 RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
                               const std::string& pngPath, int frame,
                               const std::function<void(int, int)>& progress = {});

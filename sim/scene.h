@@ -169,12 +169,13 @@ struct RenderSettings {
   std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
   Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
   Real fov = 40;                    // vertical, degrees
+  std::string cameraFraming;        // without camera keys: what the camera was set to frame
   Vec3 skyZenith{0.35, 0.45, 0.65}, skyHorizon{1.0, 1.0, 1.0};
   Vec3 skyGround{0.25, 0.25, 0.25}; // radiance from below the horizon
   Vec3 lightPosition;               // a spherical area light
   Real lightRadius = 0;             // m; 0: no light but the sky
   Vec3 lightEmission{20, 19, 17};
-  bool floor = true;                // a table top at floorHeight
+  bool floor = true;                // a table top at floorHeight (default: under the lowest solid)
   Real floorHeight = 0;
   Real checkerSize = 0.05;          // m; 0: plain
   std::vector<MaterialSpec> phaseMaterials;  // one per phase

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "scene_reader.h"
 
@@ -33,6 +34,53 @@ MaterialSpec defaultPhaseMaterial(const std::string& name) {
     m.absorption = {4.0, 1.2, 0.8};  // water: faintly blue-green at 10 cm
   }
   return m;
+}
+
+// Lowest and highest points of a solid's outer surface (its wall thickness outside the fluid).
+void solidBounds(const SolidSpec& s, Real thickness, Vec3& lo, Vec3& hi) {
+  const Vec3 t(thickness, thickness, thickness);
+  switch (s.shape) {
+    case SolidSpec::Shape::Box: lo = s.min - t, hi = s.max + t; return;
+    case SolidSpec::Shape::Cylinder: {
+      const Real r = s.radius + thickness;
+      lo = s.base - Vec3(r, thickness, r), hi = s.base + Vec3(r, s.height + thickness, r);
+      return;
+    }
+    case SolidSpec::Shape::Revolution: {
+      Real r = 0;
+      for (const auto& pt : s.profile) r = std::max(r, pt.second);
+      r += thickness;
+      const Real y0 = s.profile.empty() ? 0 : s.profile.front().first, y1 = s.profile.empty() ? 0 : s.profile.back().first;
+      lo = s.base + Vec3(-r, y0 - thickness, -r), hi = s.base + Vec3(r, y1 + thickness, r);
+      return;
+    }
+  }
+}
+
+// A camera in front of [lo, hi] and a little above it (20 degrees), at the distance where the
+// box's eight corners fill 90 % of the frame's tighter side.
+void frameBox(const Vec3& lo, const Vec3& hi, RenderSettings& o) {
+  const Vec3 c = (lo + hi) * 0.5;
+  const Vec3 back = normalize(Vec3(0, std::sin(20 * kPi / 180), std::cos(20 * kPi / 180)));
+  const Vec3 right = normalize(cross(Vec3(0, 1, 0), back)), up = cross(back, right);
+  const Real tanV = std::tan(0.5 * o.fov * kPi / 180), tanH = tanV * Real(o.width) / Real(o.height);
+  auto fits = [&](Real d) {
+    for (int k = 0; k < 8; ++k) {
+      const Vec3 p((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+      const Vec3 q = p - (c + back * d);
+      const Real z = -dot(q, back);
+      if (z <= 0 || std::fabs(dot(q, right)) > 0.9 * tanH * z || std::fabs(dot(q, up)) > 0.9 * tanV * z) return false;
+    }
+    return true;
+  };
+  Real near = 0, far = 1;
+  while (!fits(far) && far < 1e7) far *= 2;
+  for (int it = 0; it < 50; ++it) {
+    const Real mid = 0.5 * (near + far);
+    (fits(mid) ? far : near) = mid;
+  }
+  o.lookAt = c;
+  o.cameraPosition = c + back * far;
 }
 
 MaterialSpec defaultSolidMaterial() {
@@ -91,6 +139,7 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   } else {
     o.phases = sc.surfacing.phases;
   }
+  const bool cameraGiven = t.has("camera_position") || t.has("look_at");
   o.cameraPosition = t.vec3("camera_position", o.cameraPosition);
   o.lookAt = t.vec3("look_at", o.lookAt);
   o.fov = t.number("fov", o.fov, 1, 170, "degrees", false);
@@ -124,16 +173,29 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
       }
     }
   }
-  // Default table top: under the lowest solid's outer wall, or the domain's floor.
-  o.floorHeight = sc.domainMin.y;
+  // The solids' outer bounds: the table top sits under the lowest (the domain's floor only
+  // without solids: a domain reaching below the glass left it floating above the table), and
+  // without camera keys the camera frames them (or the fluid blocks, without solids).
+  Vec3 lo(1e30, 1e30, 1e30), hi(-1e30, -1e30, -1e30);
   for (size_t j = 0; j < sc.solids.size(); ++j) {
-    const SolidSpec& s = sc.solids[j];
-    const Real bottom = s.shape == SolidSpec::Shape::Box ? s.min.y
-                        : s.shape == SolidSpec::Shape::Cylinder ? s.base.y
-                                                                : s.base.y + (s.profile.empty() ? 0 : s.profile.front().first);
-    o.floorHeight = std::min(o.floorHeight, bottom - o.solidMaterials[j].thickness);
+    Vec3 a, b;
+    solidBounds(sc.solids[j], o.solidMaterials[j].thickness, a, b);
+    lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
   }
-  o.floorHeight = t.number("floor_height", o.floorHeight, -1e6, 1e6, "m");
+  const bool solids = !sc.solids.empty();
+  if (!solids)
+    for (const FluidBlockSpec& f : sc.fluids) {
+      const Vec3 r(f.radius, f.radius, f.radius);
+      lo = cwiseMin(lo, f.shape == FluidBlockSpec::Shape::Sphere ? f.centre - r : f.min);
+      hi = cwiseMax(hi, f.shape == FluidBlockSpec::Shape::Sphere ? f.centre + r : f.max);
+    }
+  o.floorHeight = t.number("floor_height", solids ? lo.y : sc.domainMin.y, -1e6, 1e6, "m");
+  if (!cameraGiven && lo.x <= hi.x) {
+    frameBox(lo, hi, o);
+    o.cameraFraming = fmt::format("no camera_position or look_at: framing the {} [{:.3g}, {:.3g}, {:.3g}]-[{:.3g}, {:.3g}, {:.3g}] from ({:.3g}, {:.3g}, {:.3g})",
+                                  solids ? "solids" : "fluid blocks", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, o.cameraPosition.x,
+                                  o.cameraPosition.y, o.cameraPosition.z);
+  }
 }
 
 
