@@ -59,6 +59,10 @@ class Effect {
   virtual AttributeMask requiredAttributes() const { return 0; }
   /// Adds this effect's force (N) to particles.force.
   virtual void accumulateForces(const StepContext& ctx, ParticleSet& particles) = 0;
+  /// Implicit effects (solver.pressure = "dfsph"): correct the predicted velocities ps.velocity
+  /// over dt, after the explicit forces and before the pressure solve. Returns "" or why the
+  /// solve failed (the step is then retried with a smaller dt).
+  virtual std::string solveVelocities(const StepContext&, ParticleSet&, Real /*dt*/) { return {}; }
   /// The largest stable time step this effect allows (s); called after accumulateForces.
   virtual Real maxTimeStep(const StepContext&, const ParticleSet&) const {
     return std::numeric_limits<Real>::infinity();

@@ -151,7 +151,8 @@ TimeStepLimit restTimeStep(const Scene& sc) {
     if (sc.solver.pressure == PressureSolverChoice::WCSPH && ph.stiffness > 0)
       t.offer(sc.solver.cfl * h / std::sqrt(ph.stiffness), fmt::format("the sound speed of phase \"{}\"", ph.name),
               fmt::format("phase[{}].stiffness", p));
-    if (const EffectSpec* v = sc.effect("viscosity"); v && ph.viscosity > 0)
+    // With DFSPH the viscosity is implicit (effects/implicit_viscosity.h) and sets no step.
+    if (const EffectSpec* v = sc.effect("viscosity"); v && ph.viscosity > 0 && sc.solver.pressure == PressureSolverChoice::WCSPH)
       t.offer(v->number("stability_factor") * h * h * ph.restDensity / ph.viscosity,
               fmt::format("the explicit viscosity of phase \"{}\"", ph.name), fmt::format("phase[{}].viscosity", p));
   }

@@ -66,6 +66,13 @@ Real Simulation::stepDfsph(Real maxDt) {
   const std::vector<Real> savedPressure = ps_.pressure, savedDivergence = ps_.divergencePressure;
   for (int attempt = 0;; ++attempt) {
     accelerate(dt, savedVelocity_);  // v* from the non-pressure forces
+    std::string implicitFailure;     // then the implicit ones (viscosity)
+    for (size_t k = 0; k < effects_.size() && implicitFailure.empty(); ++k) {
+      const auto e0 = Clock::now();
+      implicitFailure = effects_[k]->solveVelocities(context(), ps_, dt);
+      if (!implicitFailure.empty()) implicitFailure = fmt::format("{}: {}", effects_[k]->name(), implicitFailure);
+      times_.effect[k] += since(e0);
+    }
     const auto t0 = Clock::now();
     const PressureSolveStats density = dfsph_->solveDensity(context(), ps_, dt);
     times_.pressure += since(t0);
@@ -78,12 +85,16 @@ Real Simulation::stepDfsph(Real maxDt) {
     counters_.divergenceIterations += uint64_t(divergence.iterations);
     std::string why, parameter;
     int64_t bad = findInvalidParticle(dt, why, parameter);
-    if (bad < 0 && !density.converged) {
+    if (bad < 0 && !implicitFailure.empty()) {
+      why = implicitFailure;
+      parameter = "solver.cfl or solver.max_dt (a smaller step)";
+    }
+    if (bad < 0 && implicitFailure.empty() && !density.converged) {
       why = fmt::format("the constant-density solve did not converge in {} iterations (mean density error {:.3g} %, max {:.3g} %)",
                         density.iterations, 100 * density.meanError, 100 * density.maxError);
       parameter = "solver.cfl (a smaller step), solver.max_pressure_iterations or solver.density_tolerance";
     }
-    if (bad < 0 && density.converged) {
+    if (bad < 0 && implicitFailure.empty() && density.converged) {
       counters_.lastDensityError = density.meanError;
       counters_.lastDivergenceError = divergence.meanError;
       return dt;
