@@ -13,6 +13,7 @@
 #include "render/render_frame.h"
 #include "sim/file_util.h"
 #include "sim/particle_io.h"
+#include "sim/run_warnings.h"
 #include "sim/simulation.h"
 #include "surfacing/surface_frame.h"
 
@@ -62,6 +63,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
 
   const auto t0 = Clock::now();
   Simulation sim(scene);
+  const std::vector<size_t> seeded = phaseCounts(sim);  // before any checkpoint is loaded
   double tInit = seconds(Clock::now() - t0), tSim = 0, tWrite = 0, tCheckpoint = 0;
   FrameInfo info;
   info.sceneName = scene.name;
@@ -160,7 +162,11 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
       "  particles: {} at start, {} now, {} left the domain; watchdog retries: {}; wall clamps: {}; max compression {:.2f}%\n",
       scene.name, opt.threads > 0 ? std::to_string(opt.threads) : "all", tInit, tSim, steps,
       particleSteps > 0 ? tSim * 1e9 / particleSteps : 0.0, tWrite, tCheckpoint, n0, sim.particles().size(),
-      c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError);
+      c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError) + [&] {
+        std::string w;
+        for (const std::string& line : runWarnings(sim, seeded)) w += "  warning: " + line + "\n";
+        return w;
+      }();
 }
 
 std::string runSurfacing(const StageOptions& opt, const Scene& scene, const fs::path& out, const FrameRecords& records) {

@@ -1,0 +1,46 @@
+#include "run_warnings.h"
+
+#include <fmt/format.h>
+
+#include "simulation.h"
+
+namespace mf {
+
+std::vector<size_t> phaseCounts(const Simulation& sim) {
+  std::vector<size_t> n(sim.scene().phases.size(), 0);
+  for (uint16_t p : sim.particles().phase)
+    if (p < n.size()) ++n[p];
+  return n;
+}
+
+std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<size_t>& seeded) {
+  std::vector<std::string> w;
+  const SimulationCounters& c = sim.counters();
+  const Scene& scene = sim.scene();
+  size_t total = 0;
+  for (size_t n : seeded) total += n;
+  if (c.wallClamps > 0)
+    w.push_back(fmt::format(
+        "{} wall clamps: particles crossed a container wall and were put back on it (splashes reaching a wall with no "
+        "pressure to stop them{})",
+        c.wallClamps,
+        scene.solver.pressure == PressureSolverChoice::WCSPH ? "; the implicit solver's walls need none: solver.pressure = \"dfsph\"" : ""));
+  if (c.maxDensityError > 0.1)
+    w.push_back(fmt::format("the fluid was compressed by up to {:.1f} % somewhere (over 10 %: volume is not kept; {})",
+                            100 * c.maxDensityError,
+                            scene.solver.pressure == PressureSolverChoice::WCSPH ? "raise the phases' stiffness, or use solver.pressure = \"dfsph\""
+                                                                                 : "lower solver.cfl or solver.density_tolerance"));
+  if (total > 0 && double(c.removedOutOfDomain) > 0.01 * double(total))
+    w.push_back(fmt::format("{} particles ({:.1f} % of the {} seeded) left the domain and were removed: is scene.domain_min/max too small?",
+                            c.removedOutOfDomain, 100.0 * double(c.removedOutOfDomain) / double(total), total));
+  const std::vector<size_t> now = phaseCounts(sim);
+  for (size_t p = 0; p < seeded.size() && p < now.size(); ++p)
+    if (seeded[p] > 0 && 2 * now[p] < seeded[p])
+      w.push_back(fmt::format("phase \"{}\" is down to {} particles, {:.0f} % of the {} seeded (turned into another phase, "
+                              "removed by a sink or lost)",
+                              scene.phases[p].name, now[p], 100.0 * double(now[p]) / double(seeded[p]), seeded[p]));
+  if (sim.particles().size() == 0) w.push_back("no particle is left: every frame from here on is empty");
+  return w;
+}
+
+}  // namespace mf
