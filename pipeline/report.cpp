@@ -30,7 +30,7 @@ void usage(std::FILE* to) {
              "stability: sweeps of stiffness, density ratio, viscosity, time-step factor, temperature range and\n"
              "           particle spacing; writes DIR/stability.md, DIR/stability.csv, DIR/stability.png (compression)\n"
              "           and DIR/stability_energy.png (energy growth).\n"
-             "--quick    a tiny ladder (under a minute on 2 cores; what CI runs); the default is the full one\n"
+             "--quick    a small ladder (what CI runs: about 7 min on a loaded 2-core machine); the default is the full one\n"
              "           (about 30 minutes on 2 busy cores).\n"
              "--only     problems (dam_break, hydrostatic, heat_diffusion, layered) or sweeps (stiffness,\n"
              "           density_ratio, viscosity, dt_factor, temperature, spacing) to run.\n"

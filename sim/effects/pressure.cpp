@@ -19,7 +19,7 @@
 // p_i sum_j V_j grad W_ij term, zero only on a perfect lattice, gives the particle arrangement
 // a rigidity proportional to the pressure itself; at 10 cm depth that is ~1 kPa against the
 // ~15 Pa a lone oil particle's buoyancy exerts over its own size, so the lattice cages it.
-// Choice (README, hydrostatic reference): rho_ref the densest liquid and the level where a
+// Choice (docs/method.md, hydrostatic reference): rho_ref the densest liquid and the level where a
 // column of it weighs what the liquids weigh; then p' = 0 at the floor and dp'/dy >= 0 above,
 // so p' never turns tensile, in any arrangement of the liquids.
 #include <tbb/parallel_for.h>

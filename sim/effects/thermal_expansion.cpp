@@ -8,7 +8,7 @@
 // so a heated particle weighs what a particle of density rho0(T) and the same volume would.
 // Why: SPH can only express the volume form's buoyancy by moving particles apart, and the
 // particle lattice resists that (the lava lamp's wax, heated at the floor, expands upward as
-// a column and never rises as a blob: README, lava lamp). The weight form needs no
+// a column and never rises as a blob: docs/scenes.md, lava lamp). The weight form needs no
 // rearrangement, keeps the particle spacing and resolution where the wax is hottest, and lets
 // beta be large without crushing a hot particle among cold ones.
 #include <tbb/parallel_for.h>
