@@ -25,6 +25,7 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
         "pressure to stop them{})",
         c.wallClamps,
         scene.solver.pressure == PressureSolverChoice::WCSPH ? "; the implicit solver's walls need none: solver.pressure = \"dfsph\"" : ""));
+  if (c.retries > 0) w.push_back(fmt::format("{} steps were retried with a smaller dt; the last at {}", c.retries, sim.lastRetry()));
   if (c.maxDensityError > 0.1)
     w.push_back(fmt::format("the fluid was compressed by up to {:.1f} % somewhere (over 10 %: volume is not kept; {})",
                             100 * c.maxDensityError,

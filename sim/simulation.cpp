@@ -559,6 +559,8 @@ void Simulation::retryOrStop(int attempt, Real dt, int64_t bad, const std::strin
         "simulation unstable at step {} (t = {:.6g} s, dt = {:.3g} s after {} retries): {}. Parameter most likely at fault: {}.",
         counters_.steps, time_, dt, attempt, who, parameter));
   }
+  lastRetry_ = fmt::format("step {}, t = {:.6g} s, dt = {:.3g} s: {}{}", counters_.steps, time_, dt,
+                           bad >= 0 ? fmt::format("particle id {} of phase \"{}\" ", badId, phaseName) : "", why);
   ++counters_.retries;
 }
 

@@ -70,6 +70,8 @@ class Simulation {
   Real time() const { return time_; }
   uint64_t stepCount() const { return counters_.steps; }
   const SimulationCounters& counters() const { return counters_; }
+  /// Why the watchdog last retried a step, and where ("" if it never did; not checkpointed).
+  const std::string& lastRetry() const { return lastRetry_; }
   /// What set the last step's dt: a solver key or an effect's name (for messages).
   const char* dtLimiter() const { return dtLimiter_; }
   const StageTimes& stageTimes() const { return times_; }
@@ -128,6 +130,7 @@ class Simulation {
   HalfSpaceMissing surfaceMissing_;  // solver.free_surface_completion only
   Vec3 gridOrigin_;
   Real wallOffset_ = 0;
+  std::string lastRetry_;
   ParticleSet ps_;
   BoundarySamples boundary_;
   CellGrid fluidGrid_, boundaryGrid_;
