@@ -17,6 +17,10 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
   diagonal_.resize(n);
+  // V_j grad W_ij per fluid pair and gamma V_b grad W_ib per wall pair, kept for the solves'
+  // iterations, which then read them instead of evaluating the kernel again.
+  fluidGrad_.resize(ctx.fluidNeighbors.indices.size());
+  wallGrad_.resize(ctx.boundaryNeighbors.indices.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 xi = ps.position[i];
@@ -27,37 +31,31 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
         const Vec3 rij = xi - ps.position[j];
         const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
         const Real Vj = ps.mass[j] / ps.restDensity[j];
-        grad += g * Vj;
+        fluidGrad_[k] = g * Vj;
+        grad += fluidGrad_[k];
         others += Vj * lengthSquared(g) / ps.restDensity[j];
       }
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = xi - ctx.boundary.position[b];
-        gradB += K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
+        wallGrad_[k] = K.pressureGrad(rib, lengthSquared(rib)) * (settings_.wallFactor * ctx.boundary.volume[b]);
+        gradB += wallGrad_[k];
       }
-      diagonal_[i] = lengthSquared(grad + settings_.wallFactor * gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
+      diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
     }
   });
 }
 
 void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
   const size_t n = ps.size();
-  const SphKernels& K = ctx.kernels;
   rate_.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 xi = ps.position[i], vi = ps.velocity[i];
+      const Vec3 vi = ps.velocity[i];
       Real rate = 0;
-      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
-        const uint32_t j = ctx.fluidNeighbors.indices[k];
-        const Vec3 rij = xi - ps.position[j];
-        rate += ps.mass[j] / ps.restDensity[j] * dot(vi - ps.velocity[j], K.pressureGrad(rij, lengthSquared(rij)));
-      }
-      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-        const uint32_t b = ctx.boundaryNeighbors.indices[k];
-        const Vec3 rib = xi - ctx.boundary.position[b];
-        rate += settings_.wallFactor * ctx.boundary.volume[b] * dot(vi, K.pressureGrad(rib, lengthSquared(rib)));
-      }
+      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k)
+        rate += dot(vi - ps.velocity[ctx.fluidNeighbors.indices[k]], fluidGrad_[k]);
+      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) rate += dot(vi, wallGrad_[k]);
       rate_[i] = rate;
     }
   });
@@ -65,25 +63,16 @@ void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
 
 void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt) {
   const size_t n = ps.size();
-  const SphKernels& K = ctx.kernels;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 xi = ps.position[i];
       const Real pi = p[i];
       Vec3 acc;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
-        const uint32_t j = ctx.fluidNeighbors.indices[k];
-        const Real pij = pi + p[j];
-        if (pij == 0) continue;
-        const Vec3 rij = xi - ps.position[j];
-        acc += K.pressureGrad(rij, lengthSquared(rij)) * (ps.mass[j] / ps.restDensity[j] * pij);
+        const Real pij = pi + p[ctx.fluidNeighbors.indices[k]];
+        if (pij != 0) acc += fluidGrad_[k] * pij;
       }
       if (pi != 0)
-        for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-          const uint32_t b = ctx.boundaryNeighbors.indices[k];
-          const Vec3 rib = xi - ctx.boundary.position[b];
-          acc += K.pressureGrad(rib, lengthSquared(rib)) * (settings_.wallFactor * ctx.boundary.volume[b] * pi);
-        }
+        for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) acc += wallGrad_[k] * pi;
       // Velocities are read (positions only) and written per particle: no race.
       ps.velocity[i] -= acc * (dt / ps.restDensity[i]);
     }

@@ -55,7 +55,8 @@ class DfsphSolver {
  public:
   explicit DfsphSolver(const DfsphSettings& settings) : settings_(settings) {}
 
-  /// D_i of the current positions; call after every neighbour search and density pass.
+  /// D_i of the current positions, and the pairs' kernel gradients the solves reuse; call after
+  /// every neighbour search and density pass.
   void computeDiagonal(const StepContext& ctx, const ParticleSet& ps);
   /// Corrects the predicted velocities ps.velocity so that positions advanced by dt are at rest
   /// density; the pressure used stays in ps.pressure (Pa).
@@ -79,6 +80,7 @@ class DfsphSolver {
 
   DfsphSettings settings_;
   std::vector<Real> diagonal_, rate_, delta_;
+  std::vector<Vec3> fluidGrad_, wallGrad_;  // per neighbour pair, from computeDiagonal
 };
 
 }  // namespace mf
