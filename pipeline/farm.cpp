@@ -69,6 +69,13 @@ b=$((a + per - 1))
 echo "multifluid farm: $1 task $task, frames $a-$b, job ${SLURM_JOB_ID:-?} on $(hostname)"
 "$mf" "$@" --frames "$a-$b"
 status=$?
+# 75: an input frame was still missing after --wait-for-input (the simulation is behind, or was
+# requeued). Give the CPUs back and wait in the queue instead, a bounded number of times.
+starts=${SLURM_RESTART_COUNT:-0}
+if [ "$status" -eq 75 ] && [ -n "${SLURM_JOB_ID:-}" ] && [ "$starts" -lt 20 ]; then
+  echo "multifluid farm: input not ready; requeueing this task to free its CPUs (start $starts; at most 20)"
+  scontrol requeue "$SLURM_JOB_ID" && sleep 60
+fi
 echo "multifluid farm: exit status $status"
 exit "$status"
 )SH";

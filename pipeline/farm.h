@@ -20,7 +20,7 @@ struct FarmSubmitOptions {
   int firstFrame = 0, lastFrame = 0;    // resolved against the scene
   int framesPerTask = 1;
   int cpusPerTask = 1;
-  double waitForInputSeconds = 3600;    // how long a task waits for its input frame's record
+  double waitForInputSeconds = 300;     // a task's wait for its input frame's record, per start
   std::string partition, timeLimit;     // "" = the cluster's defaults
   int timeLimitSeconds = 0;             // timeLimit parsed (0 = none)
   std::vector<std::string> passOptions; // --max-memory, --max-steps-per-frame, --force as given

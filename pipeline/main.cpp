@@ -135,7 +135,7 @@ void addFarmCommands(CLI::App& app, Options& opt) {
   submit->add_option("--cpus-per-task", opt.cpusPerTask, "CPUs (threads) of each job and task (default 1)")->check(CLI::Range(1, 4096));
   submit->add_option("--partition", opt.partition, "the Slurm partition (default: the cluster's)");
   submit->add_option("--time", opt.timeLimit, "each job's time limit (Slurm: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S)");
-  submit->add_option("--wait-for-input", opt.waitForInput, "seconds a task waits for its input frame (default 3600)")
+  submit->add_option("--wait-for-input", opt.waitForInput, "seconds a task waits for its input frame before it requeues itself to free its CPUs (default 300; 20 requeues at most)")
       ->check(CLI::Range(1.0, 1e7));
   submit->add_option("--stages", opt.farmStages, "comma-separated: sim, surface, render, encode (default all)")
       ->check(CLI::Validator(checkFarmStages, "LIST"));
@@ -206,7 +206,7 @@ int runStagesCommand(const Options& opt) {
 }
 
 int farmSubmitCommand(Options opt) {
-  if (opt.waitForInput <= 0) opt.waitForInput = 3600;
+  if (opt.waitForInput <= 0) opt.waitForInput = 300;
   for (const char c : opt.out)
     if (c == '%' || c == '\\' || static_cast<unsigned char>(c) < 0x20)
       throw UsageError("--out " + opt.out + ": a farm run folder may not contain '%', '\\' or control characters (Slurm reads "
@@ -392,6 +392,9 @@ int main(int argc, char** argv) {
   } catch (const mf::SceneError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 2;
+  } catch (const mf::pipeline::InputNotReady& e) {
+    fmt::print(stderr, "multifluid: {}\n", e.what());
+    return 75;
   } catch (const mf::pipeline::StopRequested& e) {
     fmt::print(stderr, "multifluid: {}\n", e.what());
     return 128 + e.signal;

@@ -61,9 +61,9 @@ bool awaitInput(const StageOptions& opt, const FrameRecords& records, const std:
     if (opt.waitForInputSeconds <= 0) return false;
     const double waited = seconds(Clock::now() - start);
     if (waited >= opt.waitForInputSeconds)
-      throw std::runtime_error(fmt::format("frame {}: no finished {} frame after waiting {:.0f} s (--wait-for-input): {} has no "
-                                           "completion record; is the {} stage running?",
-                                           frame, stage, waited, file.string(), redo));
+      throw InputNotReady(fmt::format("frame {}: no finished {} frame after waiting {:.0f} s (--wait-for-input): {} has no "
+                                      "completion record; is the {} stage running?",
+                                      frame, stage, waited, file.string(), redo));
     if (!noted) fmt::print(stderr, "frame {}: waiting up to {:.0f} s for {}\n", frame, opt.waitForInputSeconds, file.string());
     noted = true;
     std::this_thread::sleep_for(std::chrono::milliseconds(500));

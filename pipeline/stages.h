@@ -22,6 +22,12 @@ struct StageOptions {
   double waitForInputSeconds = 0;
 };
 
+/// An input frame was still missing after --wait-for-input (exit status 75, EX_TEMPFAIL: a farm
+/// task then gives its CPUs back and is requeued, so that it never starves the simulation).
+struct InputNotReady : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// The simulation stopped at a step boundary because of SIGTERM or SIGUSR1 (a farm's time limit
 /// or preemption); the checkpoint of the last finished frame is intact, and a re-run resumes.
 struct StopRequested : std::runtime_error {

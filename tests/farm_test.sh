@@ -1,0 +1,130 @@
+#!/usr/bin/env bash
+# The farm against a real single-node Slurm (scripts/slurm_local.sh): a tiny dam break through
+# `farm submit` is byte-identical to a local run, also with its simulation job requeued mid-run
+# (`scontrol requeue`); a damaged input makes `farm status` name the frame and the error. Before
+# Slurm: stages of one folder run side by side while the same stage is refused, and a stage
+# removes only its own stale temporaries. Needs root (CI runs as root); never skipped: if Slurm
+# cannot start, this fails with the daemons' logs. About a minute and a half on 2 cores.
+set -euo pipefail
+bin=$1
+src=$2
+work=$(mktemp -d)
+state="$work/slurm"
+export SLURM_CONF="$state/etc/slurm.conf"
+slurm() { "$src/scripts/slurm_local.sh" "$1" "$state"; }
+cleanup() {
+  slurm stop > /dev/null 2>&1 || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+fail() {
+  echo "FAIL: $*" >&2
+  if [ -f "$SLURM_CONF" ]; then
+    squeue 2>&1 | head -20 >&2 || true
+    slurm logs || true
+  fi
+  exit 1
+}
+t0=$(date +%s)
+cd "$work"
+scene=(dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --samples 2)
+
+# --- The reference: one local run -------------------------------------------------------------
+"$bin" run "${scene[@]}" --out "$work/local" 2> local.log || fail "local run failed: $(tail -3 local.log)"
+
+# --- One folder, several stages: scoped locks and scoped clean-up (no Slurm needed) -------------
+"$bin" sim "${scene[@]}" --set scene.end_time=2.0 --threads 1 --out "$work/shared" 2> shared-sim.log &
+simpid=$!
+for _ in $(seq 1 500); do [ -s shared/locks/sim.pid ] && break; sleep 0.02; done
+[ -s shared/locks/sim.pid ] || fail "the simulation wrote no lock"
+mkdir -p shared/surface shared/particles
+touch shared/surface/surface.0000.vdb.tmp shared/surface/surface.0099.vdb.tmp shared/particles/particles.0099.vdb.tmp
+"$bin" surface "${scene[@]}" --set scene.end_time=2.0 --frames 0-0 --wait-for-input 60 --out "$work/shared" 2> shared-surface.log \
+  || fail "surfacing was refused while the simulation ran: $(tail -3 shared-surface.log)"
+[ ! -e shared/surface/surface.0000.vdb.tmp ] || fail "surfacing frames 0-0 left its own stale temporary"
+[ -e shared/surface/surface.0099.vdb.tmp ] && [ -e shared/particles/particles.0099.vdb.tmp ] \
+  || fail "surfacing frames 0-0 removed temporaries it does not own"
+set +e
+"$bin" sim "${scene[@]}" --set scene.end_time=2.0 --out "$work/shared" > shared-sim2.log 2>&1
+status=$?
+set -e
+kill "$simpid" 2>/dev/null || true
+wait "$simpid" 2>/dev/null || true
+[ "$status" -ne 0 ] && grep -q "in use by another multifluid run (PID $simpid), which holds its sim stage" shared-sim2.log \
+  || fail "a second simulation in the same folder was not refused with the holder: $(cat shared-sim2.log)"
+grep -q "stopped by SIGTERM during frame" shared-sim.log || fail "SIGTERM did not stop the simulation at a step: $(tail -2 shared-sim.log)"
+echo "locks: surfacing ran beside the simulation, a second simulation was refused (PID $simpid); clean-up kept others' temporaries"
+
+# --- Slurm --------------------------------------------------------------------------------------
+slurm start || fail "the local Slurm did not start (logs above)"
+
+# Wait (bounded) until none of the recorded jobs is queued, hurrying requeued jobs past the
+# two-minute BeginTime that Slurm gives them (a test-only shortcut).
+jobs_of() { awk '$1 == "job" {print $3}' "$1/farm/jobs.txt" | paste -sd, -; }
+wait_jobs() {
+  local dir=$1 limit=$2 ids left
+  ids=$(jobs_of "$dir")
+  for _ in $(seq 1 "$limit"); do
+    left=$(squeue -h -r -j "$ids" -o '%i %r' 2> /dev/null || true)
+    [ -z "$left" ] && return 0
+    echo "$left" | awk '$2 == "BeginTime" {print $1}' | while read -r j; do scontrol update "JobId=$j" StartTime=now || true; done
+    sleep 1
+  done
+  fail "jobs $ids still queued after $limit s: $left"
+}
+compare_with_local() {
+  local dir=$1 n=0
+  for f in $(cd local && find particles surface render records -type f) checkpoint.bin dam_break.mp4 scene.toml; do
+    cmp -s "local/$f" "$dir/$f" || fail "$f differs between the farm ($dir) and the local run"
+    n=$((n + 1))
+  done
+  for d in particles surface render records; do
+    [ "$(ls "$dir/$d" | wc -l)" -eq "$(ls "local/$d" | wc -l)" ] || fail "$dir/$d has other files than the local run's"
+  done
+  echo "$n"
+}
+
+# --- Farm run with the simulation requeued mid-run; a run folder with a space, quotes and $( ) ---
+farm="$work/farm 'q' \$(touch PWNED) \"dq\""
+"$bin" farm submit "${scene[@]}" --out "$farm" --frames-per-task 4 --wait-for-input 10 > submit.log 2>&1 \
+  || fail "farm submit failed: $(cat submit.log)"
+sim=$(awk '$1 == "job" && $2 == "sim" {print $3}' "$farm/farm/jobs.txt")
+[ -n "$sim" ] || fail "no sim job recorded: $(cat "$farm/farm/jobs.txt")"
+for _ in $(seq 1 600); do [ -e "$farm/records/particles.0004.txt" ] && break; sleep 0.1; done
+[ -e "$farm/records/particles.0004.txt" ] || fail "the sim job wrote no frame 4 in 60 s: $(cat "$farm"/farm/logs/sim-*.log)"
+[ -e "$farm/records/particles.0015.txt" ] && fail "the simulation finished before the requeue: nothing was tested"
+scontrol requeue "$sim" || fail "scontrol requeue $sim failed"
+wait_jobs "$farm" 200
+log="$farm/farm/logs/sim-$sim.log"
+grep -q "stopped by SIGTERM during frame" "$log" || fail "the requeued simulation did not stop at a step: $(cat "$log")"
+grep -q "^resuming .* from its checkpoint at frame" "$log" || fail "the requeued simulation did not resume: $(cat "$log")"
+[ "$farm/records/particles.0015.txt" -nt "$farm/records/surface.0000.txt" ] \
+  || fail "surfacing did not start before the simulation ended (frames did not flow)"
+n=$(compare_with_local "$farm")
+"$bin" farm status "$farm" > status.log 2>&1 || fail "farm status of a finished run failed: $(cat status.log)"
+grep -q "particles 16/16 surface 16/16 render 16/16" status.log || fail "farm status: $(cat status.log)"
+find "$work" "$src" -name PWNED 2> /dev/null | grep -q . && fail "a path ran a shell command"
+yields=$(cat "$farm"/farm/logs/surface-*.log | grep -c "input not ready; requeueing" || true)
+echo "farm: $n files byte-identical to the local run; sim job $sim requeued, resumed from its $(grep -o 'checkpoint at frame [0-9]*' "$log" | head -1); $yields surfacing task(s) gave their CPUs back while waiting"
+
+# --- A damaged input: the surfacing task fails and farm status names the frame and the error ---
+damaged="$work/damaged"
+cp -a "$farm" "$damaged"
+rm -f "$damaged/records/surface.0006.txt" "$damaged/records/render.0006.txt"
+printf 'XXXX' | dd of="$damaged/particles/particles.0006.vdb" bs=1 seek=200 conv=notrunc status=none
+"$bin" farm submit "${scene[@]}" --out "$damaged" --stages surface,render,encode --frames-per-task 4 > submit2.log 2>&1 \
+  || fail "farm submit (surface, render, encode) failed: $(cat submit2.log)"
+surface=$(awk '$1 == "job" && $2 == "surface" {print $3}' "$damaged/farm/jobs.txt")
+for _ in $(seq 1 120); do [ -z "$(squeue -h -r -j "$surface" 2> /dev/null)" ] && break; sleep 1; done
+set +e
+"$bin" farm status "$damaged" > status2.log 2>&1
+status=$?
+set -e
+[ "$status" -eq 1 ] || fail "farm status exited $status with a failed task: $(cat status2.log)"
+grep -q "^failed: surface task 1 (job ${surface}_1, frames 4-7) FAILED exit 1 at frame 6: multifluid: .*particles.0006.vdb.*damaged" status2.log \
+  || fail "farm status does not name the frame and the error: $(cat status2.log)"
+"$bin" farm cancel "$damaged" > cancel.log 2>&1 || fail "farm cancel failed: $(cat cancel.log)"
+for _ in $(seq 1 30); do [ -z "$(squeue -h -j "$(jobs_of "$damaged")" 2> /dev/null)" ] && break; sleep 1; done
+[ -z "$(squeue -h -j "$(jobs_of "$damaged")" 2> /dev/null)" ] || fail "jobs left after farm cancel: $(squeue)"
+echo "damaged input: $(grep '^failed:' status2.log)"
+echo "farm test: $(($(date +%s) - t0)) s"
