@@ -73,8 +73,11 @@ status=$?
 # requeued). Give the CPUs back and wait in the queue instead, a bounded number of times.
 starts=${SLURM_RESTART_COUNT:-0}
 if [ "$status" -eq 75 ] && [ -n "${SLURM_JOB_ID:-}" ] && [ "$starts" -lt 20 ]; then
-  echo "multifluid farm: input not ready; requeueing this task to free its CPUs (start $starts; at most 20)"
-  scontrol requeue "$SLURM_JOB_ID" && sleep 60
+  # An array task by ARRAYID_TASK: the array's own id would requeue every task.
+  self=$SLURM_JOB_ID
+  [ -z "${SLURM_ARRAY_TASK_ID:-}" ] || self="${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}"
+  echo "multifluid farm: input not ready; requeueing task $self to free its CPUs (start $starts; at most 20)"
+  scontrol requeue "$self" && sleep 60
 fi
 echo "multifluid farm: exit status $status"
 exit "$status"

@@ -104,7 +104,7 @@ n=$(compare_with_local "$farm")
 "$bin" farm status "$farm" > status.log 2>&1 || fail "farm status of a finished run failed: $(cat status.log)"
 grep -q "particles 16/16 surface 16/16 render 16/16" status.log || fail "farm status: $(cat status.log)"
 find "$work" "$src" -name PWNED 2> /dev/null | grep -q . && fail "a path ran a shell command"
-yields=$(cat "$farm"/farm/logs/surface-*.log | grep -c "input not ready; requeueing" || true)
+yields=$(cat "$farm"/farm/logs/surface-*.log | grep -c "input not ready; requeueing task" || true)
 echo "farm: $n files byte-identical to the local run; sim job $sim requeued, resumed from its $(grep -o 'checkpoint at frame [0-9]*' "$log" | head -1); $yields surfacing task(s) gave their CPUs back while waiting"
 
 # --- A damaged input: the surfacing task fails and farm status names the frame and the error ---
