@@ -90,16 +90,20 @@ farm="$work/farm 'q' \$(touch PWNED) \"dq\""
   || fail "farm submit failed: $(cat submit.log)"
 sim=$(awk '$1 == "job" && $2 == "sim" {print $3}' "$farm/farm/jobs.txt")
 [ -n "$sim" ] || fail "no sim job recorded: $(cat "$farm/farm/jobs.txt")"
-for _ in $(seq 1 600); do [ -e "$farm/records/particles.0004.txt" ] && break; sleep 0.1; done
-[ -e "$farm/records/particles.0004.txt" ] || fail "the sim job wrote no frame 4 in 60 s: $(cat "$farm"/farm/logs/sim-*.log)"
+# Requeued early (frame 2 of 15), so that even a much faster machine is still simulating.
+for _ in $(seq 1 1200); do [ -e "$farm/records/particles.0002.txt" ] && break; sleep 0.05; done
+[ -e "$farm/records/particles.0002.txt" ] || fail "the sim job wrote no frame 2 in 60 s: $(cat "$farm"/farm/logs/sim-*.log)"
 [ -e "$farm/records/particles.0015.txt" ] && fail "the simulation finished before the requeue: nothing was tested"
 scontrol requeue "$sim" || fail "scontrol requeue $sim failed"
 wait_jobs "$farm" 200
 log="$farm/farm/logs/sim-$sim.log"
 grep -q "stopped by SIGTERM during frame" "$log" || fail "the requeued simulation did not stop at a step: $(cat "$log")"
 grep -q "^resuming .* from its checkpoint at frame" "$log" || fail "the requeued simulation did not resume: $(cat "$log")"
-[ "$farm/records/particles.0015.txt" -nt "$farm/records/surface.0000.txt" ] \
-  || fail "surfacing did not start before the simulation ended (frames did not flow)"
+# With one CPU the node runs one job at a time, and nothing can flow.
+if [ "$(nproc)" -ge 2 ]; then
+  [ "$farm/records/particles.0015.txt" -nt "$farm/records/surface.0000.txt" ] \
+    || fail "surfacing did not start before the simulation ended (frames did not flow)"
+fi
 n=$(compare_with_local "$farm")
 "$bin" farm status "$farm" > status.log 2>&1 || fail "farm status of a finished run failed: $(cat status.log)"
 grep -q "particles 16/16 surface 16/16 render 16/16" status.log || fail "farm status: $(cat status.log)"
