@@ -121,7 +121,7 @@ int removeStaleTemporaries(const fs::path& dir, const FolderLocks& locks) {
     for (const std::string& f : folders) removeIn(dir / f, inRange);
     removeIn(dir / "records", [&](const std::string& name) { return name.rfind(recordStage + ".", 0) == 0 && inRange(name); });
     if (s.stage == "sim")
-      removeIn(dir, [](const std::string& name) { return name == "checkpoint.bin.tmp" || name == "scene.toml.tmp"; });
+      removeIn(dir, [](const std::string& name) { return name == "checkpoint.bin.tmp" || name.rfind("scene.toml.tmp", 0) == 0; });
     if (s.stage == "encode")
       removeIn(dir, [](const std::string& name) { return name.size() > 8 && name.compare(name.size() - 8, 8, ".tmp.mp4") == 0; });
   }

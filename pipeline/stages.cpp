@@ -1,14 +1,16 @@
 #include "pipeline/stages.h"
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include <atomic>
 #include <chrono>
 #include <csignal>
-#include <thread>
 #include <fstream>
 #include <functional>
 #include <stdexcept>
+#include <thread>
 
 #include "pipeline/folder_lock.h"
 #include "pipeline/process.h"
@@ -71,12 +73,16 @@ bool awaitInput(const StageOptions& opt, const FrameRecords& records, const std:
   return true;
 }
 
-/// Scene copies are rewritten only when they change: concurrent farm tasks all find it equal.
+/// The scene copy is rewritten only when it changes, and through a temporary of this process's
+/// own: farm tasks that start together find it equal, or each write a whole file of their own.
 void writeSceneCopy(const Scene& scene, const fs::path& out) {
   const fs::path file = out / "scene.toml";
   std::ifstream in(file, std::ios::binary);
   const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.is_open() || old != scene.sourceText) writeFileAtomically(file.string(), scene.sourceText);
+  if (in.is_open() && old == scene.sourceText) return;
+  const fs::path mine = out / fmt::format("scene.toml.tmp{}", ::getpid());
+  writeFileAtomically(mine.string(), scene.sourceText);
+  fs::rename(mine, file);
 }
 
 // SIGTERM / SIGUSR1 during the simulation: stop at the next step (see StopRequested).
