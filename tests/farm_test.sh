@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # The farm against a real single-node Slurm (scripts/slurm_local.sh): a tiny dam break through
 # `farm submit` is byte-identical to a local run, also with its simulation job requeued mid-run
-# (`scontrol requeue`); a damaged input makes `farm status` name the frame and the error. Before
-# Slurm: stages of one folder run side by side while the same stage is refused, and a stage
-# removes only its own stale temporaries. Needs root (CI runs as root); never skipped: if Slurm
-# cannot start, this fails with the daemons' logs. About a minute and a half on 2 cores.
+# (`scontrol requeue`) while a surfacing task waiting for it gives its CPU back; a damaged input
+# makes `farm status` name the frame and the error. Before Slurm: bad options refused, --dry-run;
+# stages of one folder run side by side while the same stage is refused, and a stage removes
+# only its own stale temporaries. Needs root (CI runs as root); never skipped: if Slurm cannot
+# start, this fails with the daemons' logs. About a minute on 2 cores.
 set -euo pipefail
 bin=$1
 src=$2
@@ -55,6 +56,29 @@ wait "$simpid" 2>/dev/null || true
 grep -q "stopped by SIGTERM during frame" shared-sim.log || fail "SIGTERM did not stop the simulation at a step: $(tail -2 shared-sim.log)"
 echo "locks: surfacing ran beside the simulation, a second simulation was refused (PID $simpid); clean-up kept others' temporaries"
 
+# --- Bad input is refused before anything is submitted; --dry-run submits nothing ---------------
+bad() {
+  local want=$1
+  shift
+  set +e
+  "$bin" farm submit "${scene[@]}" "$@" > bad.log 2>&1
+  local status=$?
+  set -e
+  [ "$status" -eq 2 ] && grep -q -- "$want" bad.log || fail "farm submit $* (exit $status): $(cat bad.log)"
+}
+bad "--out .*may not contain '%'" --out "$work/a%b"
+bad "--time 1:2:3:4: takes M, M:S" --out "$work/bad" --time 1:2:3:4
+bad "--partition a b: takes a partition name" --out "$work/bad" --partition "a b"
+bad "--frames 0-99: the scene 'dam_break' has frames 0-15" --out "$work/bad" --frames 0-99
+bad "--frames-per-task: Value 0 not in range" --out "$work/bad" --frames-per-task 0
+bad "unknown stage 'foo'" --out "$work/bad" --stages sim,foo
+[ ! -e "$work/bad/farm/jobs.txt" ] || fail "a refused submission recorded jobs"
+"$bin" farm submit "${scene[@]}" --out "$work/dry" --frames-per-task 4 --dry-run > dry.log 2>&1 || fail "dry run: $(cat dry.log)"
+[ "$(grep -c '^sbatch --parsable' dry.log)" -eq 4 ] && grep -q -- "--array=0-3 '--dependency=aftercorr:<surface job id>'" dry.log \
+  || fail "dry run printed other command lines: $(cat dry.log)"
+[ -s dry/farm/sim.sbatch ] && [ -s dry/farm/task.sbatch ] && [ ! -e dry/farm/jobs.txt ] || fail "dry run: scripts missing or jobs recorded"
+echo "input: 6 bad submissions refused naming the option; dry run wrote scripts and 4 sbatch lines"
+
 # --- Slurm --------------------------------------------------------------------------------------
 slurm start || fail "the local Slurm did not start (logs above)"
 
@@ -95,6 +119,11 @@ for _ in $(seq 1 1200); do [ -e "$farm/records/particles.0002.txt" ] && break; s
 [ -e "$farm/records/particles.0002.txt" ] || fail "the sim job wrote no frame 2 in 60 s: $(cat "$farm"/farm/logs/sim-*.log)"
 [ -e "$farm/records/particles.0015.txt" ] && fail "the simulation finished before the requeue: nothing was tested"
 scontrol requeue "$sim" || fail "scontrol requeue $sim failed"
+# While the simulation waits in the queue, a surfacing task waiting for its frame must give its
+# CPU back (exit 75, requeued) within --wait-for-input; only then is anything hurried.
+for _ in $(seq 1 60); do cat "$farm"/farm/logs/surface-*.log 2> /dev/null | grep -q "input not ready; requeueing task" && break; sleep 1; done
+yields=$(cat "$farm"/farm/logs/surface-*.log | grep -c "input not ready; requeueing task" || true)
+[ "$yields" -ge 1 ] || fail "no waiting surfacing task gave its CPU back while the simulation was requeued"
 wait_jobs "$farm" 200
 log="$farm/farm/logs/sim-$sim.log"
 grep -q "stopped by SIGTERM during frame" "$log" || fail "the requeued simulation did not stop at a step: $(cat "$log")"
@@ -108,8 +137,7 @@ n=$(compare_with_local "$farm")
 "$bin" farm status "$farm" > status.log 2>&1 || fail "farm status of a finished run failed: $(cat status.log)"
 grep -q "particles 16/16 surface 16/16 render 16/16" status.log || fail "farm status: $(cat status.log)"
 find "$work" "$src" -name PWNED 2> /dev/null | grep -q . && fail "a path ran a shell command"
-yields=$(cat "$farm"/farm/logs/surface-*.log | grep -c "input not ready; requeueing task" || true)
-echo "farm: $n files byte-identical to the local run; sim job $sim requeued, resumed from its $(grep -o 'checkpoint at frame [0-9]*' "$log" | head -1); $yields surfacing task(s) gave their CPUs back while waiting"
+echo "farm: $n files byte-identical to the local run; sim job $sim requeued, resumed from its $(grep -o 'checkpoint at frame [0-9]*' "$log" | head -1); $yields surfacing task(s) gave their CPUs back while it was queued"
 
 # --- A damaged input: the surfacing task fails and farm status names the frame and the error ---
 damaged="$work/damaged"
