@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -48,14 +50,14 @@ exit "$status"
 
 constexpr const char* kTaskScript = R"SH(#!/bin/bash
 # multifluid farm: one task of a job array (surfacing, rendering) or the encoding job (written by
-# `multifluid farm submit`). Arguments: MULTIFLUID FIRST LAST PER, then the arguments of the
-# multifluid stage command; none is ever part of this text. Task T does frames FIRST + T*PER
-# onwards, PER of them, up to LAST.
+# `multifluid farm submit`). Arguments: MULTIFLUID FIRST LAST PER SIMJOB, then the arguments of
+# the multifluid stage command; none is ever part of this text. Task T does frames FIRST + T*PER
+# onwards, PER of them, up to LAST. SIMJOB: the simulation's job id, or 0 when none was submitted.
 set -u
-mf=$1 first=$2 last=$3 per=$4
-shift 4
+mf=$1 first=$2 last=$3 per=$4 simjob=$5
+shift 5
 task=${SLURM_ARRAY_TASK_ID:-0}
-for n in "$first" "$last" "$per" "$task"; do
+for n in "$first" "$last" "$per" "$task" "$simjob"; do
   # Digits only, no leading zero: bash arithmetic would evaluate anything else.
   if ! [[ $n =~ ^(0|[1-9][0-9]{0,6})$ ]]; then
     echo "multifluid farm: not a frame number: '$n'"
@@ -70,14 +72,20 @@ echo "multifluid farm: $1 task $task, frames $a-$b, job ${SLURM_JOB_ID:-?} on $(
 "$mf" "$@" --frames "$a-$b"
 status=$?
 # 75: an input frame was still missing after --wait-for-input (the simulation is behind, or was
-# requeued). Give the CPUs back and wait in the queue instead, a bounded number of times.
+# requeued). Give the CPUs back and wait in the queue instead: as long as the simulation job is
+# queued or running; once it has ended (or without one) only while this task has started fewer
+# than 3 times, since the frame will not come.
 starts=${SLURM_RESTART_COUNT:-0}
-if [ "$status" -eq 75 ] && [ -n "${SLURM_JOB_ID:-}" ] && [ "$starts" -lt 20 ]; then
-  # An array task by ARRAYID_TASK: the array's own id would requeue every task.
-  self=$SLURM_JOB_ID
-  [ -z "${SLURM_ARRAY_TASK_ID:-}" ] || self="${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}"
-  echo "multifluid farm: input not ready; requeueing task $self to free its CPUs (start $starts; at most 20)"
-  scontrol requeue "$self" && sleep 60
+if [ "$status" -eq 75 ] && [ -n "${SLURM_JOB_ID:-}" ]; then
+  sim_state=
+  [ "$simjob" = 0 ] || sim_state=$(squeue --noheader --jobs "$simjob" --format %T 2> /dev/null)
+  if [ -n "$sim_state" ] || [ "$starts" -lt 3 ]; then
+    # An array task by ARRAYID_TASK: the array's own id would requeue every task.
+    self=$SLURM_JOB_ID
+    [ -z "${SLURM_ARRAY_TASK_ID:-}" ] || self="${SLURM_ARRAY_JOB_ID}_${SLURM_ARRAY_TASK_ID}"
+    echo "multifluid farm: input not ready; requeueing task $self to free its CPUs (start $starts; simulation ${sim_state:-not queued})"
+    scontrol requeue "$self" && sleep 60
+  fi
 fi
 echo "multifluid farm: exit status $status"
 exit "$status"
@@ -219,6 +227,8 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
     if (!o.partition.empty()) a.push_back("--partition=" + o.partition);
     if (!o.timeLimit.empty()) a.push_back("--time=" + o.timeLimit);
     if (array) a.push_back(fmt::format("--array=0-{}", tasks - 1));
+    // A job whose dependency failed leaves the queue instead of pending for ever.
+    if (stage != "sim") a.push_back("--kill-on-invalid-dep=yes");
     return a;
   };
   auto stageArgs = [&](const std::string& stage) {
@@ -231,6 +241,7 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
 
   FarmJobs jobs{scene.name, o.firstFrame, o.lastFrame, o.framesPerTask, {}};
   std::string previous;  // the job the next one depends on
+  std::string simJob;    // the tasks ask Slurm whether it still runs; "" when not submitted
   auto submit = [&](const std::string& stage, std::vector<std::string> argv) {
     if (o.dryRun) {
       std::string line;
@@ -259,7 +270,8 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
   };
   const std::string taskScript = (farm / "task.sbatch").string();
   auto sliceArgs = [&](int per) {
-    return std::vector<std::string>{mf, std::to_string(o.firstFrame), std::to_string(o.lastFrame), std::to_string(per)};
+    return std::vector<std::string>{mf, std::to_string(o.firstFrame), std::to_string(o.lastFrame), std::to_string(per),
+                                    simJob.empty() ? "0" : simJob};
   };
 
   if (has("sim")) {
@@ -272,6 +284,7 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
     args.insert(args.end(), {"--frames", frames});
     submit("sim", withArgs(a, (farm / "sim.sbatch").string(), args));
   }
+  simJob = previous;
   std::string surfaceJob;
   if (has("surface")) {
     auto a = common("surface", true);
@@ -308,15 +321,25 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
 
 int farmCancel(const fs::path& dir) {
   const FarmJobs jobs = readFarmJobs(dir);
-  if (jobs.jobs.empty()) throw std::runtime_error((dir / "farm" / "jobs.txt").string() + " lists no jobs");
+  std::vector<std::string> ids;
+  for (const auto& [stage, id] : jobs.jobs) ids.push_back(id);
+  // Only jobs still queued: scancel fails on those that have left the controller.
+  std::set<std::string> queued;
+  for (const auto& [key, state] : queuedJobs(ids)) queued.insert(key.substr(0, key.find('_')));
   std::vector<std::string> argv = {"scancel"};
-  for (const auto& [stage, id] : jobs.jobs) argv.push_back(id);
+  for (const auto& id : ids)
+    if (queued.count(id)) argv.push_back(id);
+  if (argv.size() == 1) {
+    fmt::print("no job of {} is queued or running (jobs {})\n", dir.string(), joinIds(jobs));
+    return 0;
+  }
   const ProgramOutput r = captureProgram(argv);
   if (r.status != 0) {
     fmt::print(stderr, "scancel failed (status {}): {}", r.status, r.err);
     return r.status;
   }
-  fmt::print("cancelled jobs {} of {}\n", joinIds(jobs), dir.string());
+  std::vector<std::string> cancelled(argv.begin() + 1, argv.end());
+  fmt::print("cancelled jobs {} of {}\n", fmt::join(cancelled, ","), dir.string());
   return 0;
 }
 

@@ -128,7 +128,8 @@ int farmStatus(const fs::path& dir) {
         ts.state = logged == 0 ? "COMPLETED" : fmt::format("FAILED exit {}", logged);
         ts.failed = logged != 0;
       } else {
-        ts.state = fs::exists(ts.log, ec) ? "ENDED without an exit status (killed?)" : "UNKNOWN (neither queued nor logged)";
+        ts.state = fs::exists(ts.log, ec) ? "ENDED without an exit status (killed?)"
+                                          : "NOT RUN (neither queued nor logged: cancelled, or its dependency failed)";
         ts.failed = fs::exists(ts.log, ec);
       }
       ++counts[ts.state];

@@ -135,7 +135,7 @@ void addFarmCommands(CLI::App& app, Options& opt) {
   submit->add_option("--cpus-per-task", opt.cpusPerTask, "CPUs (threads) of each job and task (default 1)")->check(CLI::Range(1, 4096));
   submit->add_option("--partition", opt.partition, "the Slurm partition (default: the cluster's)");
   submit->add_option("--time", opt.timeLimit, "each job's time limit (Slurm: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S)");
-  submit->add_option("--wait-for-input", opt.waitForInput, "seconds a task waits for its input frame before it requeues itself to free its CPUs (default 300; 20 requeues at most)")
+  submit->add_option("--wait-for-input", opt.waitForInput, "seconds a task waits for its input frame before it requeues itself to free its CPUs (default 300)")
       ->check(CLI::Range(1.0, 1e7));
   submit->add_option("--stages", opt.farmStages, "comma-separated: sim, surface, render, encode (default all)")
       ->check(CLI::Validator(checkFarmStages, "LIST"));

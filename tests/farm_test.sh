@@ -74,7 +74,7 @@ bad "--frames-per-task: Value 0 not in range" --out "$work/bad" --frames-per-tas
 bad "unknown stage 'foo'" --out "$work/bad" --stages sim,foo
 [ ! -e "$work/bad/farm/jobs.txt" ] || fail "a refused submission recorded jobs"
 "$bin" farm submit "${scene[@]}" --out "$work/dry" --frames-per-task 4 --dry-run > dry.log 2>&1 || fail "dry run: $(cat dry.log)"
-[ "$(grep -c '^sbatch --parsable' dry.log)" -eq 4 ] && grep -q -- "--array=0-3 '--dependency=aftercorr:<surface job id>'" dry.log \
+[ "$(grep -c '^sbatch --parsable' dry.log)" -eq 4 ] && grep -q -- "--array=0-3 .*'--dependency=aftercorr:<surface job id>'" dry.log \
   || fail "dry run printed other command lines: $(cat dry.log)"
 [ -s dry/farm/sim.sbatch ] && [ -s dry/farm/task.sbatch ] && [ ! -e dry/farm/jobs.txt ] || fail "dry run: scripts missing or jobs recorded"
 echo "input: 6 bad submissions refused naming the option; dry run wrote scripts and 4 sbatch lines"
@@ -147,7 +147,7 @@ printf 'XXXX' | dd of="$damaged/particles/particles.0006.vdb" bs=1 seek=200 conv
 "$bin" farm submit "${scene[@]}" --out "$damaged" --stages surface,render,encode --frames-per-task 4 > submit2.log 2>&1 \
   || fail "farm submit (surface, render, encode) failed: $(cat submit2.log)"
 surface=$(awk '$1 == "job" && $2 == "surface" {print $3}' "$damaged/farm/jobs.txt")
-for _ in $(seq 1 120); do [ -z "$(squeue -h -r -j "$surface" 2> /dev/null)" ] && break; sleep 1; done
+wait_jobs "$damaged" 120  # every job, rendering task 1 and encoding too, whose dependency fails
 set +e
 "$bin" farm status "$damaged" > status2.log 2>&1
 status=$?
@@ -155,8 +155,16 @@ set -e
 [ "$status" -eq 1 ] || fail "farm status exited $status with a failed task: $(cat status2.log)"
 grep -q "^failed: surface task 1 (job ${surface}_1, frames 4-7) FAILED exit 1 at frame 6: multifluid: .*particles.0006.vdb.*damaged" status2.log \
   || fail "farm status does not name the frame and the error: $(cat status2.log)"
-"$bin" farm cancel "$damaged" > cancel.log 2>&1 || fail "farm cancel failed: $(cat cancel.log)"
-for _ in $(seq 1 30); do [ -z "$(squeue -h -j "$(jobs_of "$damaged")" 2> /dev/null)" ] && break; sleep 1; done
-[ -z "$(squeue -h -j "$(jobs_of "$damaged")" 2> /dev/null)" ] || fail "jobs left after farm cancel: $(squeue)"
+grep -q "^render   job .*NOT RUN" status2.log && grep -q "^encode   job .*NOT RUN" status2.log \
+  || fail "rendering task 1 and encoding, whose dependency failed, did not leave the queue: $(cat status2.log)"
 echo "damaged input: $(grep '^failed:' status2.log)"
+
+# --- farm cancel ---------------------------------------------------------------------------------
+"$bin" farm submit "${scene[@]}" --out "$work/cancelled" --frames-per-task 4 > submit3.log 2>&1 || fail "farm submit: $(cat submit3.log)"
+"$bin" farm cancel "$work/cancelled" > cancel.log 2>&1 || fail "farm cancel failed: $(cat cancel.log)"
+grep -q "^cancelled jobs [0-9]*,[0-9]*,[0-9]*,[0-9]* of " cancel.log || fail "farm cancel: $(cat cancel.log)"
+ids=$(jobs_of "$work/cancelled")
+for _ in $(seq 1 30); do [ -z "$(squeue -h -j "$ids" 2> /dev/null)" ] && break; sleep 1; done
+[ -z "$(squeue -h -j "$ids" 2> /dev/null)" ] || fail "jobs left after farm cancel: $(squeue)"
+echo "cancel: $(cat cancel.log)"
 echo "farm test: $(($(date +%s) - t0)) s"
