@@ -255,7 +255,9 @@ int farmSubmit(const Scene& scene, const FarmSubmitOptions& o) {
     std::string id = r.out.substr(0, r.out.find_first_of(";\n"));
     if (r.status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
       // Nothing half-submitted stays behind: the jobs already queued are cancelled.
-      if (!jobs.jobs.empty()) captureProgram({"scancel", joinIds(jobs)});
+      std::vector<std::string> cancel = {"scancel"};
+      for (const auto& [submitted, id] : jobs.jobs) cancel.push_back(id);
+      if (cancel.size() > 1) captureProgram(cancel);
       throw std::runtime_error(fmt::format("sbatch failed for the {} job (status {}): {}{}", stage, r.status, r.err,
                                            jobs.jobs.empty() ? "" : fmt::format(" (cancelled jobs {})", joinIds(jobs))));
     }

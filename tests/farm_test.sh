@@ -159,6 +159,28 @@ grep -q "^render   job .*NOT RUN" status2.log && grep -q "^encode   job .*NOT RU
   || fail "rendering task 1 and encoding, whose dependency failed, did not leave the queue: $(cat status2.log)"
 echo "damaged input: $(grep '^failed:' status2.log)"
 
+# --- A submission that fails half way cancels what it had queued ------------------------------
+mkdir -p fakebin
+real_sbatch=$(command -v sbatch)
+cat > fakebin/sbatch <<EOF
+#!/bin/bash
+for a in "\$@"; do [ "\$a" = --job-name=mf-render-dam_break ] && { echo "sbatch: error: refused by the test" >&2; exit 1; }; done
+exec "$real_sbatch" "\$@"
+EOF
+chmod +x fakebin/sbatch
+set +e
+PATH="$work/fakebin:$PATH" "$bin" farm submit "${scene[@]}" --out "$work/half" > half.log 2>&1
+status=$?
+set -e
+[ "$status" -eq 1 ] && grep -q "sbatch failed for the render job (status 1): sbatch: error: refused by the test" half.log \
+  || fail "a failing sbatch was not reported (exit $status): $(cat half.log)"
+[ ! -e half/farm/jobs.txt ] || fail "a failed submission recorded jobs"
+half_ids=$(sed -n 's/^submitted [a-z]* job \([0-9]*\)$/\1/p' half.log | paste -sd, -)
+[ -n "$half_ids" ] || fail "no job was submitted before the failure: $(cat half.log)"
+for _ in $(seq 1 30); do [ -z "$(squeue -h -j "$half_ids" 2> /dev/null)" ] && break; sleep 1; done
+[ -z "$(squeue -h -j "$half_ids" 2> /dev/null)" ] || fail "jobs $half_ids of a failed submission are still queued: $(squeue)"
+echo "half-failed submission: render refused, jobs $half_ids cancelled"
+
 # --- farm cancel ---------------------------------------------------------------------------------
 "$bin" farm submit "${scene[@]}" --out "$work/cancelled" --frames-per-task 4 > submit3.log 2>&1 || fail "farm submit: $(cat submit3.log)"
 "$bin" farm cancel "$work/cancelled" > cancel.log 2>&1 || fail "farm cancel failed: $(cat cancel.log)"
