@@ -28,7 +28,7 @@ fail() {
 }
 t0=$(date +%s)
 cd "$work"
-scene=(dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --samples 2)
+scene=(dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.8 --resolution 64x36 --samples 2)
 
 # --- The reference: one local run -------------------------------------------------------------
 "$bin" run "${scene[@]}" --out "$work/local" 2> local.log || fail "local run failed: $(tail -3 local.log)"
@@ -69,12 +69,12 @@ bad() {
 bad "--out .*may not contain '%'" --out "$work/a%b"
 bad "--time 1:2:3:4: takes M, M:S" --out "$work/bad" --time 1:2:3:4
 bad "--partition a b: takes a partition name" --out "$work/bad" --partition "a b"
-bad "--frames 0-99: the scene 'dam_break' has frames 0-15" --out "$work/bad" --frames 0-99
+bad "--frames 0-99: the scene 'dam_break' has frames 0-24" --out "$work/bad" --frames 0-99
 bad "--frames-per-task: Value 0 not in range" --out "$work/bad" --frames-per-task 0
 bad "unknown stage 'foo'" --out "$work/bad" --stages sim,foo
 [ ! -e "$work/bad/farm/jobs.txt" ] || fail "a refused submission recorded jobs"
 "$bin" farm submit "${scene[@]}" --out "$work/dry" --frames-per-task 4 --dry-run > dry.log 2>&1 || fail "dry run: $(cat dry.log)"
-[ "$(grep -c '^sbatch --parsable' dry.log)" -eq 4 ] && grep -q -- "--array=0-3 .*'--dependency=aftercorr:<surface job id>'" dry.log \
+[ "$(grep -c '^sbatch --parsable' dry.log)" -eq 4 ] && grep -q -- "--array=0-6 .*'--dependency=aftercorr:<surface job id>'" dry.log \
   || fail "dry run printed other command lines: $(cat dry.log)"
 [ -s dry/farm/sim.sbatch ] && [ -s dry/farm/task.sbatch ] && [ ! -e dry/farm/jobs.txt ] || fail "dry run: scripts missing or jobs recorded"
 echo "input: 6 bad submissions refused naming the option; dry run wrote scripts and 4 sbatch lines"
@@ -114,10 +114,16 @@ farm="$work/farm 'q' \$(touch PWNED) \"dq\""
   || fail "farm submit failed: $(cat submit.log)"
 sim=$(awk '$1 == "job" && $2 == "sim" {print $3}' "$farm/farm/jobs.txt")
 [ -n "$sim" ] || fail "no sim job recorded: $(cat "$farm/farm/jobs.txt")"
-# Requeued early (frame 2 of 15), so that even a much faster machine is still simulating.
-for _ in $(seq 1 1200); do [ -e "$farm/records/particles.0002.txt" ] && break; sleep 0.05; done
+# Requeued once frame 2 is out and a surfacing task is running (the first of 25 frames, so that a
+# much faster machine is still simulating): a requeue before the array starts would hold it on its
+# `after` dependency, and no task would be waiting.
+for _ in $(seq 1 1200); do
+  [ -e "$farm/records/particles.0002.txt" ] && grep -qs "^multifluid farm: surface task" "$farm"/farm/logs/surface-*.log && break
+  sleep 0.05
+done
 [ -e "$farm/records/particles.0002.txt" ] || fail "the sim job wrote no frame 2 in 60 s: $(cat "$farm"/farm/logs/sim-*.log)"
-[ -e "$farm/records/particles.0015.txt" ] && fail "the simulation finished before the requeue: nothing was tested"
+grep -qs "^multifluid farm: surface task" "$farm"/farm/logs/surface-*.log || fail "no surfacing task started in 60 s"
+[ -e "$farm/records/particles.0024.txt" ] && fail "the simulation finished before the requeue: nothing was tested"
 scontrol requeue "$sim" || fail "scontrol requeue $sim failed"
 # While the simulation waits in the queue, a surfacing task waiting for its frame must give its
 # CPU back (exit 75, requeued) within --wait-for-input; only then is anything hurried.
@@ -130,12 +136,12 @@ grep -q "stopped by SIGTERM during frame" "$log" || fail "the requeued simulatio
 grep -q "^resuming .* from its checkpoint at frame" "$log" || fail "the requeued simulation did not resume: $(cat "$log")"
 # With one CPU the node runs one job at a time, and nothing can flow.
 if [ "$(nproc)" -ge 2 ]; then
-  [ "$farm/records/particles.0015.txt" -nt "$farm/records/surface.0000.txt" ] \
+  [ "$farm/records/particles.0024.txt" -nt "$farm/records/surface.0000.txt" ] \
     || fail "surfacing did not start before the simulation ended (frames did not flow)"
 fi
 n=$(compare_with_local "$farm")
 "$bin" farm status "$farm" > status.log 2>&1 || fail "farm status of a finished run failed: $(cat status.log)"
-grep -q "particles 16/16 surface 16/16 render 16/16" status.log || fail "farm status: $(cat status.log)"
+grep -q "particles 25/25 surface 25/25 render 25/25" status.log || fail "farm status: $(cat status.log)"
 find "$work" "$src" -name PWNED 2> /dev/null | grep -q . && fail "a path ran a shell command"
 echo "farm: $n files byte-identical to the local run; sim job $sim requeued, resumed from its $(grep -o 'checkpoint at frame [0-9]*' "$log" | head -1); $yields surfacing task(s) gave their CPUs back while it was queued"
 
