@@ -38,6 +38,11 @@ stop_pidfile() {
 }
 
 stop() {
+  # Jobs first, through Slurm: slurmstepd and the job's processes outlive a stopped slurmd.
+  if [ -s "$state/run/slurmctld.pid" ] && kill -0 "$(cat "$state/run/slurmctld.pid")" 2>/dev/null; then
+    scancel --full --user=root > /dev/null 2>&1 || true
+    for _ in $(seq 1 30); do [ -z "$(squeue -h 2>/dev/null)" ] && break; sleep 0.5; done
+  fi
   stop_pidfile "$state/run/slurmd.pid"
   stop_pidfile "$state/run/slurmctld.pid"
   stop_pidfile "$state/run/munged.pid"
