@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/farm.h"
 #include "pipeline/report.h"
 #include "pipeline/stages.h"
 #include "render/image.h"
@@ -44,6 +45,11 @@ struct Options {
   double maxMemoryMiB = 0;
   double maxStepsPerFrame = 1e5;
   bool force = false;
+  double waitForInput = 0;
+  // farm
+  std::string farmDir, partition, timeLimit, farmStages = "sim,surface,render,encode";
+  int framesPerTask = 1, cpusPerTask = 1;
+  bool dryRun = false;
   // diff
   std::vector<std::string> diffPaths;
   double threshold = 0.016, failPercent = 1;
@@ -103,6 +109,46 @@ void addSceneOptions(CLI::App& app, Options& opt, bool stageOptions) {
   app.add_option("--samples", opt.samples, "samples per pixel")->check(CLI::Range(1, 100000));
   app.add_option("--preview-colour,--preview-color", opt.previewColour, "preview colours")
       ->check(CLI::IsMember({"phase", "temperature"}));
+  app.add_option("--wait-for-input", opt.waitForInput,
+                 "seconds to wait for an input frame another process is still making (farm tasks; default 0: skip it)")
+      ->check(CLI::Range(0.0, 1e7));
+}
+
+std::string checkFarmStages(const std::string& s) {
+  if (s.empty()) return "needs at least one stage (sim, surface, render, encode)";
+  std::stringstream ss(s);
+  for (std::string stage; std::getline(ss, stage, ',');)
+    if (stage != "sim" && stage != "surface" && stage != "render" && stage != "encode")
+      return "unknown stage '" + stage + "' (farm stages: sim, surface, render, encode)";
+  if (s.back() == ',') return "has an empty stage name";
+  return "";
+}
+
+void addFarmCommands(CLI::App& app, Options& opt) {
+  CLI::App* farm = app.add_subcommand("farm", "run a scene on a Slurm farm: submit, status, cancel (the run folder must be on shared storage)");
+  farm->require_subcommand(1);
+  CLI::App* submit = farm->add_subcommand("submit", "write sbatch scripts into DIR/farm and submit the stages as chained jobs");
+  addSceneOptions(*submit, opt, false);
+  submit->add_option("--out", opt.out, "the run folder, on storage every node shares")->required();
+  submit->add_option("--frames", opt.frames, "A-B or A: the frames to run (within the scene's)")->check(CLI::Validator(checkFrames, "A-B"));
+  submit->add_option("--frames-per-task", opt.framesPerTask, "frames per surfacing or rendering task (default 1)")->check(CLI::Range(1, 100000));
+  submit->add_option("--cpus-per-task", opt.cpusPerTask, "CPUs (threads) of each job and task (default 1)")->check(CLI::Range(1, 4096));
+  submit->add_option("--partition", opt.partition, "the Slurm partition (default: the cluster's)");
+  submit->add_option("--time", opt.timeLimit, "each job's time limit (Slurm: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S)");
+  submit->add_option("--wait-for-input", opt.waitForInput, "seconds a task waits for its input frame before it requeues itself to free its CPUs (default 300)")
+      ->check(CLI::Range(1.0, 1e7));
+  submit->add_option("--stages", opt.farmStages, "comma-separated: sim, surface, render, encode (default all)")
+      ->check(CLI::Validator(checkFarmStages, "LIST"));
+  submit->add_option("--resolution", opt.resolution, "WxH of rendered frames, e.g. 320x180")->check(CLI::Validator(checkResolution, "WxH"));
+  submit->add_option("--samples", opt.samples, "samples per pixel")->check(CLI::Range(1, 100000));
+  submit->add_flag("--dry-run", opt.dryRun, "write the scripts and print the sbatch command lines; submit nothing");
+  submit->callback([&opt] { opt.command = "farm submit"; });
+  for (const char* name : {"status", "cancel"}) {
+    CLI::App* sub = farm->add_subcommand(name, std::string(name) == "status" ? "frames done per stage, the jobs' states, failed tasks' errors"
+                                                                              : "scancel the run's jobs");
+    sub->add_option("DIR", opt.farmDir, "the run folder given to farm submit --out")->required();
+    sub->callback([&opt, name] { opt.command = std::string("farm ") + name; });
+  }
 }
 
 /// The scene, with the command line's render settings, and its budget checked.
@@ -129,6 +175,7 @@ int runStagesCommand(const Options& opt) {
   mf::pipeline::StageOptions so;
   so.threads = opt.threads;
   so.maxStepsPerFrame = opt.maxStepsPerFrame;
+  so.waitForInputSeconds = opt.waitForInput;
   so.previewColour = opt.previewColour == "temperature" ? mf::render::PreviewColour::Temperature : mf::render::PreviewColour::Phase;
   if (!opt.frames.empty()) {
     const size_t dash = opt.frames.find('-');
@@ -156,6 +203,48 @@ int runStagesCommand(const Options& opt) {
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
   return mf::pipeline::runStages(scene, so, out);
+}
+
+int farmSubmitCommand(Options opt) {
+  if (opt.waitForInput <= 0) opt.waitForInput = 300;
+  for (const char c : opt.out)
+    if (c == '%' || c == '\\' || static_cast<unsigned char>(c) < 0x20)
+      throw UsageError("--out " + opt.out + ": a farm run folder may not contain '%', '\\' or control characters (Slurm reads "
+                       "them as file name patterns in its log paths)");
+  if (!opt.partition.empty() &&
+      (opt.partition.size() > 64 || opt.partition.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") !=
+                                        std::string::npos))
+    throw UsageError("--partition " + opt.partition + ": takes a partition name (letters, digits, '_', '.', '-'; at most 64)");
+  mf::pipeline::FarmSubmitOptions fo;
+  if (!opt.timeLimit.empty()) {
+    fo.timeLimitSeconds = mf::pipeline::parseSlurmTime(opt.timeLimit);
+    if (fo.timeLimitSeconds <= 0)
+      throw UsageError("--time " + opt.timeLimit + ": takes M, M:S, H:M:S, D-H, D-H:M or D-H:M:S (more than 0 s), e.g. 2:00:00");
+  }
+  const mf::Scene scene = loadCheckedScene(opt);
+  fo.firstFrame = 0, fo.lastFrame = scene.lastFrame();
+  if (!opt.frames.empty()) {
+    const size_t dash = opt.frames.find('-');
+    fo.firstFrame = std::stoi(opt.frames.substr(0, dash));
+    fo.lastFrame = dash == std::string::npos ? fo.firstFrame : std::stoi(opt.frames.substr(dash + 1));
+    if (fo.lastFrame > scene.lastFrame())
+      throw UsageError(fmt::format("--frames {}: the scene '{}' has frames 0-{} ({} s at {} frames/s)", opt.frames, scene.name,
+                                   scene.lastFrame(), scene.endTime, scene.frameRate));
+  }
+  fo.out = fs::absolute(opt.out).lexically_normal();
+  fo.stages.clear();
+  std::stringstream ss(opt.farmStages);
+  for (std::string st; std::getline(ss, st, ',');) fo.stages.push_back(st);
+  fo.framesPerTask = opt.framesPerTask;
+  fo.cpusPerTask = opt.cpusPerTask;
+  fo.waitForInputSeconds = opt.waitForInput;
+  fo.partition = opt.partition;
+  fo.timeLimit = opt.timeLimit;
+  fo.dryRun = opt.dryRun;
+  fo.passOptions = {"--max-steps-per-frame", fmt::format("{}", opt.maxStepsPerFrame)};
+  if (opt.maxMemoryMiB > 0) fo.passOptions.insert(fo.passOptions.end(), {"--max-memory", fmt::format("{}", opt.maxMemoryMiB)});
+  if (opt.force) fo.passOptions.push_back("--force");
+  return mf::pipeline::farmSubmit(scene, fo);
 }
 
 int validate(const Options& opt) {
@@ -239,7 +328,7 @@ int main(int argc, char** argv) {
     args = {"run", kDefaultScene};
     opt.sets = kDefaultDemoSettings;
   }
-  const std::vector<std::string> commands = {"run", "sim", "surface", "render", "preview", "encode", "diff", "validate", "scenes"};
+  const std::vector<std::string> commands = {"run", "sim", "surface", "render", "preview", "encode", "diff", "validate", "scenes", "farm"};
   const bool help = args[0] == "-h" || args[0] == "--help";
   if (!help && std::find(commands.begin(), commands.end(), args[0]) == commands.end()) args.insert(args.begin(), "run");
 
@@ -273,6 +362,7 @@ int main(int argc, char** argv) {
   diff->add_option("--out", opt.out, "where difference images go (default diff/)");
   diff->callback([&opt] { opt.command = "diff"; });
   app.add_subcommand("scenes", "list the embedded scenes")->callback([&opt] { opt.command = "scenes"; });
+  addFarmCommands(app, opt);
 
   std::vector<const char*> cargv = {"multifluid"};
   for (const auto& a : args) cargv.push_back(a.c_str());
@@ -292,6 +382,9 @@ int main(int argc, char** argv) {
     }
     if (opt.command == "validate") return validate(opt);
     if (opt.command == "diff") return diffSequences(opt);
+    if (opt.command == "farm submit") return farmSubmitCommand(opt);
+    if (opt.command == "farm status") return mf::pipeline::farmStatus(opt.farmDir);
+    if (opt.command == "farm cancel") return mf::pipeline::farmCancel(opt.farmDir);
     return runStagesCommand(opt);
   } catch (const UsageError& e) {
     fmt::print(stderr, "multifluid: {}\n", e.what());
@@ -299,6 +392,12 @@ int main(int argc, char** argv) {
   } catch (const mf::SceneError& e) {
     fmt::print(stderr, "{}\n", e.what());
     return 2;
+  } catch (const mf::pipeline::InputNotReady& e) {
+    fmt::print(stderr, "multifluid: {}\n", e.what());
+    return 75;
+  } catch (const mf::pipeline::StopRequested& e) {
+    fmt::print(stderr, "multifluid: {}\n", e.what());
+    return 128 + e.signal;
   } catch (const mf::NumericalInstability& e) {
     fmt::print(stderr, "multifluid: {}\nNo frame was written for the failed step; the last checkpoint is intact.\n", e.what());
     return 3;

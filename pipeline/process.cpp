@@ -1,6 +1,7 @@
 #include "pipeline/process.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -30,6 +31,16 @@ std::string findOnPath(const std::string& program) {
 }
 
 namespace {
+/// The exit status of a started program; killed by signal N: 128 + N.
+int waitFor(pid_t pid, const std::string& program) {
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw std::runtime_error("waiting for " + program + ": " + std::strerror(errno));
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 255;
+}
+
 struct FileActions {
   posix_spawn_file_actions_t actions;
   FileActions() { posix_spawn_file_actions_init(&actions); }
@@ -62,12 +73,60 @@ int runProgram(const std::vector<std::string>& argv, const SpawnOptions& options
   pid_t pid = 0;
   rc = posix_spawn(&pid, program.c_str(), &fa.actions, nullptr, args.data(), environ);
   if (rc != 0) throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) throw std::runtime_error("waiting for " + program + ": " + std::strerror(errno));
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return 255;
+  return waitFor(pid, program);
+}
+
+ProgramOutput captureProgram(const std::vector<std::string>& argv) {
+  if (argv.empty()) throw std::runtime_error("captureProgram: no program given");
+  const std::string program = findOnPath(argv[0]);
+  if (program.empty()) throw std::runtime_error(argv[0] + " was not found on PATH");
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  int outPipe[2], errPipe[2];
+  if (::pipe2(outPipe, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  if (::pipe2(errPipe, O_CLOEXEC) != 0) {
+    ::close(outPipe[0]), ::close(outPipe[1]);
+    throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  }
+  FileActions fa;
+  posix_spawn_file_actions_addopen(&fa.actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_adddup2(&fa.actions, outPipe[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&fa.actions, errPipe[1], STDERR_FILENO);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, program.c_str(), &fa.actions, nullptr, args.data(), environ);
+  ::close(outPipe[1]), ::close(errPipe[1]);
+  if (rc != 0) {
+    ::close(outPipe[0]), ::close(errPipe[0]);
+    throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
+  }
+  // Both pipes are drained together, so that neither can fill up and block the program.
+  ProgramOutput result;
+  pollfd fds[2] = {{outPipe[0], POLLIN, 0}, {errPipe[0], POLLIN, 0}};
+  std::string* sinks[2] = {&result.out, &result.err};
+  int open = 2;
+  char buf[4096];
+  while (open > 0) {
+    if (::poll(fds, 2, -1) < 0) {
+      if (errno == EINTR) continue;
+      break;
+    }
+    for (int i = 0; i < 2; ++i) {
+      if (fds[i].fd < 0 || !(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+      const ssize_t n = ::read(fds[i].fd, buf, sizeof buf);
+      if (n > 0) {
+        sinks[i]->append(buf, size_t(n));
+      } else if (n == 0 || errno != EINTR) {
+        ::close(fds[i].fd);
+        fds[i].fd = -1;
+        --open;
+      }
+    }
+  }
+  for (const pollfd& p : fds)
+    if (p.fd >= 0) ::close(p.fd);
+  result.status = waitFor(pid, program);
+  return result;
 }
 
 }  // namespace mf::pipeline

@@ -1,4 +1,4 @@
-// Starting external programs (ffmpeg, gnuplot) without a shell: an argument vector goes straight
+// Starting external programs (ffmpeg, gnuplot, Slurm's commands) without a shell: an argument vector goes straight
 // to posix_spawn, so no text from a scene or the command line is ever interpreted by a shell.
 #pragma once
 
@@ -20,5 +20,14 @@ struct SpawnOptions {
 /// and waits for it. Returns its exit status; a program killed by signal N returns 128 + N.
 /// Throws std::runtime_error if it cannot be started.
 int runProgram(const std::vector<std::string>& argv, const SpawnOptions& options = {});
+
+struct ProgramOutput {
+  int status = 0;
+  std::string out, err;
+};
+
+/// Like runProgram, but returns what the program wrote to its standard output and error (for
+/// Slurm's sbatch, squeue, sacct, scancel).
+ProgramOutput captureProgram(const std::vector<std::string>& argv);
 
 }  // namespace mf::pipeline

@@ -1,15 +1,10 @@
 #include "pipeline/run_folder.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
 #include <xxhash.h>
 
 #include <fmt/format.h>
 
-#include <cerrno>
 #include <charconv>
-#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -19,46 +14,6 @@
 namespace fs = std::filesystem;
 
 namespace mf::pipeline {
-
-RunLock::RunLock(const fs::path& dir) {
-  const fs::path file = dir / "run.lock";
-  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(fmt::format("cannot open {}: {}", file.string(), std::strerror(errno)));
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    const int err = errno;
-    char buf[32] = {};
-    const ssize_t n = ::pread(fd_, buf, sizeof buf - 1, 0);
-    std::string pid = n > 0 ? std::string(buf, size_t(n)) : std::string("unknown");
-    while (!pid.empty() && (pid.back() == '\n' || pid.back() == ' ')) pid.pop_back();
-    ::close(fd_);
-    fd_ = -1;
-    if (err == EWOULDBLOCK)
-      throw std::runtime_error(fmt::format("{} is in use by another multifluid run (PID {}); wait for it to end or choose another --out",
-                                           dir.string(), pid));
-    throw std::runtime_error(fmt::format("cannot lock {}: {}", file.string(), std::strerror(err)));
-  }
-  const std::string pid = fmt::format("{}\n", ::getpid());
-  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, pid.data(), pid.size(), 0) != ssize_t(pid.size()))
-    throw std::runtime_error(fmt::format("cannot write {}: {}", file.string(), std::strerror(errno)));
-}
-
-RunLock::~RunLock() {
-  if (fd_ >= 0) ::close(fd_);  // closing drops the lock; the file stays (removing it would race)
-}
-
-int removeStaleTemporaries(const fs::path& dir) {
-  int removed = 0;
-  std::error_code ec;
-  for (const char* sub : {"", "particles", "surface", "mesh", "render", "preview", "records"}) {
-    const fs::path d = dir / sub;
-    if (!fs::is_directory(d, ec)) continue;
-    for (const auto& e : fs::directory_iterator(d, ec)) {
-      const std::string name = e.path().filename().string();
-      if (e.is_regular_file(ec) && name.find(".tmp") != std::string::npos && fs::remove(e.path(), ec)) ++removed;
-    }
-  }
-  return removed;
-}
 
 FileDigest digestFile(const fs::path& file, const std::string& name) {
   std::ifstream in(file, std::ios::binary);

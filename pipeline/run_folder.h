@@ -1,5 +1,5 @@
-// A run folder's bookkeeping: the lock that keeps two runs out of one folder, and the completion
-// records that say which frames of which stage are finished. A frame counts as done only when its
+// A run folder's bookkeeping: the completion records that say which frames of which stage are
+// finished (the locks are in folder_lock.h). A frame counts as done only when its
 // record exists and every file it lists has the recorded size and xxHash; anything else is redone.
 #pragma once
 
@@ -11,24 +11,6 @@
 
 namespace mf::pipeline {
 
-/// An exclusive flock on DIR/run.lock for the life of the object; the file holds the owner's PID.
-/// A second run into the same folder is refused with that PID. The kernel drops the lock when the
-/// process ends, even by SIGKILL, so a killed run never leaves the folder locked.
-class RunLock {
- public:
-  explicit RunLock(const std::filesystem::path& dir);
-  ~RunLock();
-  RunLock(const RunLock&) = delete;
-  RunLock& operator=(const RunLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
-/// Removes the temporaries (names containing ".tmp") a killed run left in `dir` and its stage
-/// folders. Only called while the lock is held, so no live run owns them. Returns how many.
-int removeStaleTemporaries(const std::filesystem::path& dir);
-
 struct FileDigest {
   std::string name;  // relative to the run folder
   uint64_t size = 0;
@@ -39,8 +21,9 @@ struct FileDigest {
 FileDigest digestFile(const std::filesystem::path& file, const std::string& name);
 
 /// The records of one run folder: DIR/records/<stage>.NNNN.txt, one line per output file.
-/// Verified frames are remembered for the life of the object (the run holds the folder's lock,
-/// so nothing else changes them): the summary does not hash every file a second time.
+/// Verified frames are remembered for the life of the object (a frame's owner holds its lock, and
+/// a finished upstream frame is only ever rewritten with the same bytes): the summary does not
+/// hash every file a second time.
 class FrameRecords {
  public:
   explicit FrameRecords(std::filesystem::path dir) : dir_(std::move(dir)) {}

@@ -1,12 +1,18 @@
 #include "pipeline/stages.h"
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <fstream>
 #include <functional>
 #include <stdexcept>
+#include <thread>
 
+#include "pipeline/folder_lock.h"
 #include "pipeline/process.h"
 #include "pipeline/report_util.h"
 #include "pipeline/run_folder.h"
@@ -47,6 +53,58 @@ bool inputReady(const FrameRecords& records, const std::string& stage, int frame
   if (!fs::exists(records.recordFile(stage, frame), ec)) return false;
   throw std::runtime_error(fmt::format("{}: {}; run the {} stage again to rewrite it", file.string(), why, redo));
 }
+
+/// inputReady, waiting up to `opt.waitForInputSeconds` (polling) for a frame another process is
+/// still making; with a wait, a frame still missing at the end is an error naming it.
+bool awaitInput(const StageOptions& opt, const FrameRecords& records, const std::string& stage, int frame, const fs::path& file,
+                const char* redo) {
+  const auto start = Clock::now();
+  bool noted = false;
+  while (!inputReady(records, stage, frame, file, redo)) {
+    if (opt.waitForInputSeconds <= 0) return false;
+    const double waited = seconds(Clock::now() - start);
+    if (waited >= opt.waitForInputSeconds)
+      throw InputNotReady(fmt::format("frame {}: no finished {} frame after waiting {:.0f} s (--wait-for-input): {} has no "
+                                      "completion record; is the {} stage running?",
+                                      frame, stage, waited, file.string(), redo));
+    if (!noted) fmt::print(stderr, "frame {}: waiting up to {:.0f} s for {}\n", frame, opt.waitForInputSeconds, file.string());
+    noted = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  return true;
+}
+
+/// The scene copy is rewritten only when it changes, and through a temporary of this process's
+/// own: farm tasks that start together find it equal, or each write a whole file of their own.
+void writeSceneCopy(const Scene& scene, const fs::path& out) {
+  const fs::path file = out / "scene.toml";
+  std::ifstream in(file, std::ios::binary);
+  const std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.is_open() && old == scene.sourceText) return;
+  const fs::path mine = out / fmt::format("scene.toml.tmp{}", ::getpid());
+  writeFileAtomically(mine.string(), scene.sourceText);
+  fs::rename(mine, file);
+}
+
+// SIGTERM / SIGUSR1 during the simulation: stop at the next step (see StopRequested).
+std::atomic<int> stopSignal{0};
+extern "C" void onStopSignal(int sig) { stopSignal.store(sig); }
+
+struct StopSignals {
+  struct sigaction oldTerm {}, oldUsr1 {};
+  StopSignals() {
+    stopSignal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = onStopSignal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGTERM, &sa, &oldTerm);
+    sigaction(SIGUSR1, &sa, &oldUsr1);
+  }
+  ~StopSignals() {
+    sigaction(SIGTERM, &oldTerm, nullptr);
+    sigaction(SIGUSR1, &oldUsr1, nullptr);
+  }
+};
 
 /// Deletes a stage's frame so that it is made afresh: the record first, then the files.
 void discardFrame(const FrameRecords& records, const std::string& stage, int frame, const std::vector<fs::path>& files) {
@@ -107,7 +165,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
     }
   }
   // The scene as run, written once the checkpoint (if any) has been accepted as this scene's.
-  writeFileAtomically((out / "scene.toml").string(), scene.sourceText);
+  writeSceneCopy(scene, out);
   if (!resumed) {
     writeFrame(0);
     saveCheckpoint(0);
@@ -119,6 +177,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
 
   const uint64_t steps0 = sim.stepCount();
   double particleSteps = 0;
+  const StopSignals stopSignals;
   const auto loopStart = Clock::now();
   for (int f = startFrame; f <= lastFrame; ++f) {
     const auto s0 = Clock::now();
@@ -126,6 +185,11 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
     const uint64_t frameStart = sim.stepCount();
     sim.advanceTo(f / scene.frameRate, [&](const Simulation& s) {
       particleSteps += double(s.particles().size());
+      if (const int sig = stopSignal.load())
+        throw StopRequested(fmt::format("stopped by {} during frame {} (t = {:.6g} s); the checkpoint of frame {} is intact: "
+                                        "run again to resume",
+                                        sig == SIGTERM ? "SIGTERM" : "SIGUSR1", f, s.time(), f - 1),
+                            sig);
       // A time step that has collapsed would step on for ever: stop, naming what sets it.
       const uint64_t stepsInFrame = s.stepCount() - frameStart;
       if (opt.maxStepsPerFrame > 0 && double(stepsInFrame) > opt.maxStepsPerFrame)
@@ -180,7 +244,7 @@ std::string runSurfacing(const StageOptions& opt, const Scene& scene, const fs::
       ++skipped;
       continue;
     }
-    if (!inputReady(records, "particles", f, particles, "sim")) {
+    if (!awaitInput(opt, records, "particles", f, particles, "sim")) {
       ++missing;
       continue;
     }
@@ -215,7 +279,7 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
       ++skipped;
       continue;
     }
-    if (!inputReady(records, "surface", f, surfaceFile(out, f), "surface")) {
+    if (!awaitInput(opt, records, "surface", f, surfaceFile(out, f), "surface")) {
       ++missing;
       continue;
     }
@@ -267,7 +331,7 @@ std::string runPreview(const StageOptions& opt, const Scene& scene, const fs::pa
       ++skipped;
       continue;
     }
-    if (!inputReady(records, "particles", f, particleFile(out, f), "sim")) continue;
+    if (!awaitInput(opt, records, "particles", f, particleFile(out, f), "sim")) continue;
     discardFrame(records, "preview", f, {previewFile(out, f)});
     const auto r = render::renderPreview(particleFile(out, f).string(), scene, previewFile(out, f).string(), opt.previewColour);
     records.write("preview", f, {previewFile(out, f)});
@@ -357,13 +421,19 @@ std::string framesPresent(const StageOptions& opt, const Scene& scene, const Fra
 
 int runStages(const Scene& scene, const StageOptions& opt, const fs::path& out) {
   fs::create_directories(out);
-  const RunLock lock(out);
-  if (const int n = removeStaleTemporaries(out); n > 0)
+  const int last = lastFrameToRun(opt, scene);
+  std::vector<LockScope> scopes;
+  if (opt.sim) scopes.push_back({"sim"});
+  for (const auto& [ran, stage] : {std::pair{opt.surface, "surface"}, {opt.render, "render"}, {opt.preview, "preview"}})
+    if (ran) scopes.push_back({stage, opt.firstFrame, last});
+  if (opt.encode) scopes.push_back({"encode"});
+  const FolderLocks locks(out, scopes);
+  if (const int n = removeStaleTemporaries(out, locks); n > 0)
     fmt::print(stderr, "removed {} temporary file(s) an interrupted run left in {}\n", n, out.string());
   const FrameRecords records(out);
   std::string summary;
   if (opt.sim) summary += runSimulation(opt, scene, out, records);
-  else writeFileAtomically((out / "scene.toml").string(), scene.sourceText);
+  else writeSceneCopy(scene, out);
   if (summary.empty()) summary = fmt::format("\nsummary for {}\n", scene.name);
   if (opt.surface) summary += runSurfacing(opt, scene, out, records);
   if (opt.render) summary += runRender(opt, scene, out, records);

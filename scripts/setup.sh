@@ -1,7 +1,16 @@
 #!/usr/bin/env bash
 # Installs what multifluid needs to build, test and run, from Debian 12's packages.
 # Run as root. Does nothing (and needs no network) when everything is already there.
+#   --farm  also Slurm and munge, for `multifluid farm` and its test (a local single-node Slurm,
+#           scripts/slurm_local.sh); users without a farm do not need them.
 set -euo pipefail
+farm=0
+for a in "$@"; do
+  case "$a" in
+    --farm) farm=1 ;;
+    *) echo "setup: unknown option '$a' (options: --farm)" >&2; exit 2 ;;
+  esac
+done
 packages=(
   build-essential cmake pkg-config ccache
   libopenvdb-dev libtbb-dev libboost-iostreams-dev libeigen3-dev libfmt-dev libtomlplusplus-dev
@@ -10,6 +19,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   libcli11-dev libxxhash-dev python3 clang libclang-rt-14-dev
 )
+[ "$farm" -eq 0 ] || packages+=(slurmctld slurmd slurm-client munge)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -59,8 +59,8 @@ echo "names: $n hostile scene names refused with file, line and key; nothing ran
 # --- Two runs into one folder: the second is refused with the holder's PID ------------------------
 "$bin" run "${base[@]}" --set scene.end_time=1.0 --out "$work/busy" 2> busy1.log &
 pid=$!
-for _ in $(seq 1 500); do [ -s busy/run.lock ] && break; sleep 0.02; done
-[ -s busy/run.lock ] || fail "first run wrote no lock"
+for _ in $(seq 1 500); do [ -s busy/locks/sim.pid ] && break; sleep 0.02; done
+[ -s busy/locks/sim.pid ] || fail "first run wrote no lock"
 set +e; "$bin" run "${base[@]}" --set scene.end_time=1.0 --out "$work/busy" > busy2.log 2>&1; status=$?; set -e
 kill "$pid" 2>/dev/null || true
 wait "$pid" 2>/dev/null || true
