@@ -47,13 +47,63 @@ struct SolidSpec {
   std::vector<std::pair<Real, Real>> profile;
 };
 
-/// Initial fluid: a box or a sphere of particles on a cubic lattice.
-struct FluidBlockSpec {
-  enum class Shape { Box, Sphere };
+/// A region of space: a box, a sphere, an ellipsoid or a cylinder. Fluid blocks fill one, and
+/// leave out the regions they subtract.
+struct FluidRegion {
+  enum class Shape { Box, Sphere, Ellipsoid, Cylinder };
   Shape shape = Shape::Box;
   Vec3 min, max;             // box
-  Vec3 centre;               // sphere
-  Real radius = 0;           // sphere
+  Vec3 centre;               // sphere, ellipsoid
+  Real radius = 0;           // sphere, cylinder
+  Vec3 radii;                // ellipsoid: semi-axes along x, y, z
+  Vec3 base;                 // cylinder: centre of its bottom face
+  Real height = 0;           // cylinder: length along `axis`
+  int axis = 1;              // cylinder: 0 x, 1 y, 2 z
+
+  bool contains(const Vec3& x) const {
+    switch (shape) {
+      case Shape::Box: return x.x >= min.x && x.x <= max.x && x.y >= min.y && x.y <= max.y && x.z >= min.z && x.z <= max.z;
+      case Shape::Sphere: return lengthSquared(x - centre) <= radius * radius;
+      case Shape::Ellipsoid: {
+        const Vec3 d = x - centre;
+        return d.x * d.x / (radii.x * radii.x) + d.y * d.y / (radii.y * radii.y) + d.z * d.z / (radii.z * radii.z) <= 1;
+      }
+      case Shape::Cylinder: {
+        const Vec3 d = x - base;
+        const Real along = d[axis], across2 = lengthSquared(d) - along * along;
+        return along >= 0 && along <= height && across2 <= radius * radius;
+      }
+    }
+    return false;
+  }
+  /// The axis-aligned box around the region.
+  void bounds(Vec3& lo, Vec3& hi) const {
+    switch (shape) {
+      case Shape::Box: lo = min, hi = max; return;
+      case Shape::Sphere: lo = centre - Vec3(radius, radius, radius), hi = centre + Vec3(radius, radius, radius); return;
+      case Shape::Ellipsoid: lo = centre - radii, hi = centre + radii; return;
+      case Shape::Cylinder: {
+        Vec3 r(radius, radius, radius), top = base;
+        r[axis] = 0;
+        top[axis] += height;
+        lo = cwiseMin(base, top) - r, hi = cwiseMax(base, top) + r;
+        return;
+      }
+    }
+  }
+};
+
+/// Initial fluid: a region of particles on a cubic lattice, less the regions in `subtract`.
+struct FluidBlockSpec : FluidRegion {
+  std::vector<FluidRegion> subtract;
+  /// A lattice point is seeded when it lies in the block (a box takes its whole lattice,
+  /// jitter included) and in no subtracted region.
+  bool seeds(const Vec3& x) const {
+    if (shape != Shape::Box && !contains(x)) return false;
+    for (const FluidRegion& r : subtract)
+      if (r.contains(x)) return false;
+    return true;
+  }
   Vec3 velocity;             // initial velocity, m/s
   // One phase, or a random mix: phases[k] drawn with probability fractions[k] (seeded).
   std::vector<uint16_t> phases;

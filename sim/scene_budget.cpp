@@ -79,7 +79,9 @@ BlockCount countBlock(const Scene& sc, const FluidBlockSpec& f) {
   c.lattice = 1;
   for (int a = 0; a < 3; ++a) c.lattice *= pointsInRange(l.n[a], l.start[a], s, sc.domainMin[a], sc.domainMax[a]);
   if (c.lattice == 0 || double(l.n[0]) * l.n[1] * l.n[2] > kExactCountLimit) {
-    c.seeded = f.shape == FluidBlockSpec::Shape::Sphere ? c.lattice * kPi / 6 : c.lattice;
+    // The region's share of its bounding box (subtracted regions not taken off: an upper bound).
+    const Real share = f.shape == FluidBlockSpec::Shape::Box ? 1 : f.shape == FluidBlockSpec::Shape::Cylinder ? kPi / 4 : kPi / 6;
+    c.seeded = c.lattice * share;
     return c;
   }
   // The seeding's own lattice and tests (Simulation::seedFluid), counted without storing a point
@@ -92,7 +94,7 @@ BlockCount countBlock(const Scene& sc, const FluidBlockSpec& f) {
         bool inDomain = true;
         for (int a = 0; a < 3; ++a) inDomain &= x[a] >= sc.domainMin[a] && x[a] <= sc.domainMax[a];
         if (!inDomain) continue;
-        if (f.shape == FluidBlockSpec::Shape::Sphere && lengthSquared(x - f.centre) > f.radius * f.radius) continue;
+        if (!f.seeds(x)) continue;
         if (solid && !insideFluidRegion(*solid, x, -f.wallMargin * s)) continue;
         c.seeded += 1;
       }
@@ -255,7 +257,9 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
     const std::string key = fmt::format("fluid[{}]", k);
     const std::string shapeKey = key + (f.shape == FluidBlockSpec::Shape::Box ? ".max" : ".radius");
     const BlockCount& c = counts[k];
-    const Real top = f.shape == FluidBlockSpec::Shape::Box ? f.max.y : f.centre.y + f.radius;
+    Vec3 lo, hi;
+    f.bounds(lo, hi);
+    const Real top = hi.y;
     if (f.insideSolid >= 0) {
       const SolidSpec& solid = sc.solids[size_t(f.insideSolid)];
       if (solid.openTop && top > solidTop(solid) + 1e-9)
@@ -269,7 +273,7 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
     if (smaller)
       problem(shapeKey, fmt::format("the block is smaller than one particle spacing ({:g} m) and seeds no particle", s));
     else if (c.lattice == 0)
-      problem(key + (f.shape == FluidBlockSpec::Shape::Box ? ".min" : ".centre"),
+      problem(key + (f.shape == FluidBlockSpec::Shape::Box ? ".min" : f.shape == FluidBlockSpec::Shape::Cylinder ? ".base" : ".centre"),
               "the block lies outside the domain (scene.domain_min .. domain_max) and seeds no particle");
     else if (f.insideSolid >= 0)
       problem(key + ".wall_margin", fmt::format("no lattice point of the block is inside \"{}\" (at wall_margin {:g} spacings): it seeds no particle",

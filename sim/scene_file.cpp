@@ -143,6 +143,33 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
   overridden.insert(canonical.empty() ? parts.back() : canonical + "." + parts.back());
 }
 
+/// shape = "box" (min, max), "sphere" (centre, radius), "ellipsoid" (centre, radii) or
+/// "cylinder" (base, radius, height, axis = "x" | "y" | "z").
+void readRegion(TableReader& t, FluidRegion& f) {
+  const std::string shape = t.text("shape", "box", {"box", "sphere", "ellipsoid", "cylinder"});
+  if (shape == "box") {
+    f.shape = FluidRegion::Shape::Box;
+    f.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
+    f.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
+    t.requireIncreasing(f.min, f.max, "max", "min");
+  } else if (shape == "sphere") {
+    f.shape = FluidRegion::Shape::Sphere;
+    f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);
+    f.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+  } else if (shape == "ellipsoid") {
+    f.shape = FluidRegion::Shape::Ellipsoid;
+    f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);
+    f.radii = t.vec3("radii", {1, 1, 1}, 1e-6, 1e6, "m", true);
+  } else {
+    f.shape = FluidRegion::Shape::Cylinder;
+    f.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+    f.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+    f.height = t.number("height", 1, 0, 1e6, "m", true, true);
+    const std::string axis = t.text("axis", "y", {"x", "y", "z"});
+    f.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+  }
+}
+
 void readSolver(TableReader& s, SolverSettings& o) {
   o.pressure = s.text("pressure", "wcsph", {"wcsph", "dfsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
   o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
@@ -382,16 +409,14 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     for (size_t k = 0; k < fluidTables.size() && k < 1000; ++k) {
       TableReader t(r, fluidTables[k], fmt::format("fluid[{}]", k));
       FluidBlockSpec f;
-      const std::string shape = t.text("shape", "box", {"box", "sphere"});
-      if (shape == "box") {
-        f.shape = FluidBlockSpec::Shape::Box;
-        f.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
-        f.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-        t.requireIncreasing(f.min, f.max, "max", "min");
-      } else {
-        f.shape = FluidBlockSpec::Shape::Sphere;
-        f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);
-        f.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+      readRegion(t, f);
+      const auto cuts = t.tables("subtract");
+      if (cuts.size() > 100) r.problem(t.node("subtract"), t.path("subtract"), fmt::format("{} regions; at most 100", cuts.size()));
+      for (size_t c = 0; c < cuts.size() && c < 100; ++c) {
+        TableReader ct(r, cuts[c], fmt::format("fluid[{}].subtract[{}]", k, c));
+        FluidRegion cut;
+        readRegion(ct, cut);
+        f.subtract.push_back(cut);
       }
       f.velocity = t.vec3("velocity", {}, -1e4, 1e4, "m/s");
       f.seed = uint64_t(t.number("seed", 1, 0, 9.0e15));

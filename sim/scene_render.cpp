@@ -185,9 +185,9 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   const bool solids = !sc.solids.empty();
   if (!solids)
     for (const FluidBlockSpec& f : sc.fluids) {
-      const Vec3 r(f.radius, f.radius, f.radius);
-      lo = cwiseMin(lo, f.shape == FluidBlockSpec::Shape::Sphere ? f.centre - r : f.min);
-      hi = cwiseMax(hi, f.shape == FluidBlockSpec::Shape::Sphere ? f.centre + r : f.max);
+      Vec3 a, b;
+      f.bounds(a, b);
+      lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
     }
   o.floorHeight = t.number("floor_height", solids ? lo.y : sc.domainMin.y, -1e6, 1e6, "m");
   if (!cameraGiven && lo.x <= hi.x) {

@@ -32,11 +32,8 @@ Real uniform01(uint64_t x) { return Real(splitmix(x) >> 11) * (1.0 / 90071992547
 }  // namespace
 
 BlockLattice blockLattice(const FluidBlockSpec& f, Real s) {
-  Vec3 lo = f.min, hi = f.max;
-  if (f.shape == FluidBlockSpec::Shape::Sphere) {
-    lo = f.centre - Vec3(f.radius, f.radius, f.radius);
-    hi = f.centre + Vec3(f.radius, f.radius, f.radius);
-  }
+  Vec3 lo, hi;
+  f.bounds(lo, hi);
   BlockLattice l;
   for (int a = 0; a < 3; ++a) {
     // Bounded so that a huge block cannot overflow int (the budget refuses such scenes first).
@@ -191,7 +188,7 @@ void Simulation::seedFluid() {
           if (f.jitter > 0)
             x += Vec3(uniform01(rngBase + 1) - 0.5, uniform01(rngBase + 2) - 0.5, uniform01(rngBase + 3) - 0.5) *
                  (2 * f.jitter * s);
-          if (f.shape == FluidBlockSpec::Shape::Sphere && lengthSquared(x - f.centre) > f.radius * f.radius) continue;
+          if (!f.seeds(x)) continue;
           // A curved wall cuts the lattice anywhere: wall_margin leaves out points that would sit
           // closer to it than the half spacing flat walls keep (they start strongly repelled).
           if (f.insideSolid >= 0 && !insideFluidRegion(scene_.solids[size_t(f.insideSolid)], x, -f.wallMargin * s)) continue;

@@ -20,9 +20,9 @@ void Simulation::seedHydrostaticPressure() {
   // (sum of m_j / s^2 over its lattice column above, plus half its own), so a fluid seeded at
   // rest starts in hydrostatic balance instead of falling for the first steps while Jacobi
   // carries the pressure up from the floor. Only a guess: the solve still sets the pressure.
-  Vec3 g;
+  Vec3 g;  // gravity at t = 0: none while it is ramped in
   for (const EffectSpec& e : scene_.effects)
-    if (e.name == "gravity") g = e.vector("acceleration");
+    if (e.name == "gravity" && e.number("ramp_time") == 0) g = e.vector("acceleration");
   const Real gn = length(g), s = scene_.solver.particleSpacing;
   if (gn == 0 || ps_.size() == 0) return;
   const Vec3 up = g * (-1 / gn);
