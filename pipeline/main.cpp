@@ -53,6 +53,8 @@ struct Options {
   // diff
   std::vector<std::string> diffPaths;
   double threshold = 0.016, failPercent = 1;
+  std::string diffFormat = "exr";
+  bool onlyCommon = false;
 };
 
 /// Only decimal digits, at most `maxDigits` of them (so that stoi cannot overflow).
@@ -258,17 +260,24 @@ int validate(const Options& opt) {
   return 0;
 }
 
-/// Compares the images of two frame sequences by name (or two image files).
+/// Compares the images of two frame sequences by name (or two image files). A run folder stands
+/// for its render/ folder; only one format is compared (EXR by default: the linear values).
 int diffSequences(const Options& opt) {
-  const std::string dirA = opt.diffPaths.at(0), dirB = opt.diffPaths.at(1);
+  std::string dirA = opt.diffPaths.at(0), dirB = opt.diffPaths.at(1);
   std::vector<std::pair<fs::path, fs::path>> pairs;
   std::vector<std::string> missing;
-  auto isImage = [](const fs::path& p) { return p.extension() == ".png" || p.extension() == ".exr"; };
+  const std::string ext = "." + opt.diffFormat;
+  auto isImage = [&](const fs::path& p) { return p.extension() == ext; };
   if (fs::is_regular_file(dirA) && fs::is_regular_file(dirB)) {
     pairs.push_back({dirA, dirB});
   } else {
-    for (const auto& dir : {dirA, dirB})
-      if (!fs::is_directory(dir)) throw UsageError("diff: " + dir + " is not a directory or an image file");
+    for (std::string* dir : {&dirA, &dirB}) {
+      if (!fs::is_directory(*dir)) throw UsageError("diff: " + *dir + " is not a directory or an image file");
+      if (fs::is_directory(fs::path(*dir) / "render") && fs::exists(fs::path(*dir) / "records")) {
+        fmt::print("{}: a run folder; comparing its render/ frames\n", *dir);
+        *dir = (fs::path(*dir) / "render").string();
+      }
+    }
     std::vector<fs::path> names;
     for (const auto& e : fs::directory_iterator(dirA))
       if (isImage(e.path())) names.push_back(e.path().filename());
@@ -280,6 +289,9 @@ int diffSequences(const Options& opt) {
       if (fs::exists(fs::path(dirB) / n)) pairs.push_back({fs::path(dirA) / n, fs::path(dirB) / n});
       else missing.push_back(n.string() + " (only in " + dirA + ")");
     }
+    std::sort(missing.begin(), missing.end());
+    if (pairs.empty())
+      fmt::print("no {} frame is in both {} and {} (--format exr|png picks the format)\n", opt.diffFormat, dirA, dirB);
   }
   const fs::path diffDir = opt.out.empty() ? fs::path("diff") : fs::path(opt.out);
   int failed = 0;
@@ -303,11 +315,11 @@ int diffSequences(const Options& opt) {
     }
     failed += pass ? 0 : 1;
   }
-  for (const auto& m : missing) fmt::print("missing: {}\n", m);
-  fmt::print("{} frame(s) compared, {} failed, {} missing (threshold {}, fail above {}% of pixels){}\n", pairs.size(), failed,
-             missing.size(), opt.threshold, opt.failPercent,
+  for (const auto& m : missing) fmt::print("{}: {}\n", opt.onlyCommon ? "skipped" : "missing", m);
+  fmt::print("{} frame(s) compared, {} failed, {} {} (threshold {}, fail above {}% of pixels){}\n", pairs.size(), failed,
+             missing.size(), opt.onlyCommon ? "on one side only, skipped" : "missing", opt.threshold, opt.failPercent,
              failed > 0 ? fmt::format("; difference images in {}", diffDir.string()) : "");
-  return failed > 0 || !missing.empty() || pairs.empty() ? 1 : 0;
+  return failed > 0 || (!missing.empty() && !opt.onlyCommon) || pairs.empty() ? 1 : 0;
 }
 
 }  // namespace
@@ -354,12 +366,14 @@ int main(int argc, char** argv) {
   addSceneOptions(*validateCmd, opt, false);
   validateCmd->callback([&opt] { opt.command = "validate"; });
   CLI::App* diff = app.add_subcommand("diff", "compare two frame sequences (folders of PNG/EXR) or two images");
-  diff->add_option("A B", opt.diffPaths, "two folders (e.g. runs/x/render) or two image files")->required()->expected(2);
+  diff->add_option("A B", opt.diffPaths, "two run folders, two frame folders (e.g. runs/x/render) or two image files")->required()->expected(2);
   diff->add_option("--threshold", opt.threshold, "a pixel fails when a displayed channel differs by more than this")
       ->check(CLI::Range(0.0, 1.0));
   diff->add_option("--fail-percent", opt.failPercent, "a frame fails when more than this % of its pixels fail")
       ->check(CLI::Range(0.0, 100.0));
   diff->add_option("--out", opt.out, "where difference images go (default diff/)");
+  diff->add_option("--format", opt.diffFormat, "which frames of two folders to compare (default exr)")->check(CLI::IsMember({"exr", "png"}));
+  diff->add_flag("--only-common", opt.onlyCommon, "frames on one side only are listed, not failed");
   diff->callback([&opt] { opt.command = "diff"; });
   app.add_subcommand("scenes", "list the embedded scenes")->callback([&opt] { opt.command = "scenes"; });
   addFarmCommands(app, opt);

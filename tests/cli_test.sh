@@ -53,7 +53,15 @@ echo "resume: $n particle frames, $m surface frames, $r images and the movie bit
 
 # diff: equal sequences pass; a changed material fails, with difference images written.
 "$bin" diff "$work/straight/render" "$work/killed/render" > "$work/diff_equal.out" || fail "diff of equal sequences failed: $(cat "$work/diff_equal.out")"
-grep -q "32 frame(s) compared, 0 failed, 0 missing" "$work/diff_equal.out" || fail "diff summary: $(cat "$work/diff_equal.out")"
+grep -q "16 frame(s) compared, 0 failed, 0 missing" "$work/diff_equal.out" || fail "diff summary: $(cat "$work/diff_equal.out")"
+# Run folders stand for their render/ frames; --only-common lists one-sided frames without failing.
+"$bin" diff "$work/straight" "$work/killed" > "$work/diff_runs.out" || fail "diff of run folders failed: $(cat "$work/diff_runs.out")"
+grep -q "16 frame(s) compared, 0 failed, 0 missing" "$work/diff_runs.out" || fail "diff of run folders: $(cat "$work/diff_runs.out")"
+mkdir -p "$work/partial" && cp "$work/straight/render/"render.000[0-3].png "$work/partial/"
+"$bin" diff "$work/straight/render" "$work/partial" --format png --only-common > "$work/diff_common.out" ||
+  fail "diff --only-common failed: $(cat "$work/diff_common.out")"
+grep -q "4 frame(s) compared, 0 failed, 12 on one side only, skipped" "$work/diff_common.out" || fail "diff --only-common: $(cat "$work/diff_common.out")"
+"$bin" diff "$work/straight/render" "$work/partial" --format png > /dev/null && fail "one-sided frames did not fail without --only-common"
 rargs=(dam_break --set solver.particle_spacing=0.00714 --set scene.end_time=0.5 --resolution 64x36 --samples 2 --threads 2)
 "$bin" render "${rargs[@]}" --frames 3 --out "$work/killed" 2> "$work/render.log" || fail "render stage failed"
 grep -q "0 frame(s) rendered" "$work/render.log" || fail "finished render frames were redone"
