@@ -188,6 +188,7 @@ struct SurfacingSettings {
   bool fog = false;                // also a fog-volume copy ("density")
   bool velocity = false;           // also a velocity grid ("vel") from the particles
   bool meshPly = false, meshObj = false;
+  bool pointsPly = false;          // also the particles as a PLY point cloud (points/points.NNNN.ply)
 };
 
 /// How a phase or a solid looks (read by render/). Units: coefficients per metre, radiance

@@ -562,6 +562,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       o.clipToSolids = t.boolean("clip_to_solids", o.clipToSolids);
       o.fog = t.boolean("fog", o.fog);
       o.velocity = t.boolean("velocity", o.velocity);
+      o.pointsPly = t.boolean("points_ply", o.pointsPly);
       if (t.has("meshes")) {
         const toml::node* mn = t.node("meshes");
         const toml::array* ma = mn->as_array();

@@ -12,6 +12,7 @@
 #include "particle_surface.h"
 #include "sim/file_util.h"
 #include "sim/particle_io.h"
+#include "point_cloud.h"
 #include "sim/vdb_file.h"
 
 namespace fs = std::filesystem;
@@ -25,7 +26,9 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
   auto meshPath = [&](const std::string& phase, const char* ext) {
     return (fs::path(meshDir) / fmt::format("{}.{:04d}.{}", phase, frame, ext)).string();
   };
-  bool complete = fs::exists(surfaceFile);
+  // Beside the meshes' folder: DIR/points/points.NNNN.ply (a phase may be called "points").
+  const std::string pointsFile = (fs::path(meshDir).parent_path() / "points" / fmt::format("points.{:04d}.ply", frame)).string();
+  bool complete = fs::exists(surfaceFile) && (!s.pointsPly || fs::exists(pointsFile));
   for (uint16_t p : s.phases) {
     if (s.meshPly) complete &= fs::exists(meshPath(scene.phases[p].name, "ply"));
     if (s.meshObj) complete &= fs::exists(meshPath(scene.phases[p].name, "obj"));
@@ -37,6 +40,11 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
 
   const ParticleFrame particles = readParticleFrame(particleFile);
   checkFrameMatchesScene(particleFile, particles.info, scene);
+  if (s.pointsPly) {
+    fs::create_directories(fs::path(pointsFile).parent_path());
+    writePointCloudPly(pointsFile, particles);
+    result.written.push_back(pointsFile);
+  }
   const double spacing = particles.info.particleSpacing;  // the scene's, to 1e-9 (checked)
   openvdb::GridPtrVec grids;
   bool firstFog = true, firstVel = true;
