@@ -14,6 +14,7 @@
 
 #include "pipeline/folder_lock.h"
 #include "pipeline/process.h"
+#include "pipeline/progress.h"
 #include "pipeline/report_util.h"
 #include "pipeline/run_folder.h"
 #include "render/render_frame.h"
@@ -179,6 +180,9 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
   double particleSteps = 0;
   const StopSignals stopSignals;
   const auto loopStart = Clock::now();
+  // The ETA follows simulated time at the recent cost, not frames done: emitters make late
+  // frames dearer (pour_glass first promised 45 s for 3 min).
+  StageProgress progress("sim", sim.time(), lastFrame / scene.frameRate, double(sim.particles().size()));
   for (int f = startFrame; f <= lastFrame; ++f) {
     const auto s0 = Clock::now();
     auto lastNote = Clock::now();
@@ -197,22 +201,31 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
             "frame {}: {} steps without reaching t = {:.6g} s (step {}, t = {:.6g} s, dt = {:.3g} s, set by {}); the time "
             "step has collapsed. Change that parameter, or raise the bound with --max-steps-per-frame",
             f, stepsInFrame, f / scene.frameRate, s.stepCount(), s.time(), s.counters().lastDt, s.dtLimiter()));
-      // Long frames (large scenes) report inside the frame too, every few seconds.
-      if (seconds(Clock::now() - lastNote) > 5) {
+      // Long frames (large scenes) report inside the frame too: every few seconds, or on a
+      // terminal as the progress line twice a second.
+      if (seconds(Clock::now() - lastNote) > (progress.terminal() ? 0.5 : 5)) {
         lastNote = Clock::now();
-        fmt::print(stderr, "  [frame {:4d}] t = {:.5f} s of {:.5f} s, step {}, dt {:.2e} s\n", f, s.time(), f / scene.frameRate,
-                   s.stepCount(), s.counters().lastDt);
+        if (progress.terminal())
+          progress.update(s.time(), double(s.particles().size()), fmt::format("frame {}/{} t = {:.4f} s  particles {}  step {}", f, lastFrame, s.time(),
+                                                s.particles().size(), s.stepCount()));
+        else
+          fmt::print(stderr, "  [frame {:4d}] t = {:.5f} s of {:.5f} s, step {}, dt {:.2e} s\n", f, s.time(), f / scene.frameRate,
+                     s.stepCount(), s.counters().lastDt);
       }
     });
     tSim += seconds(Clock::now() - s0);
     writeFrame(f);
     saveCheckpoint(f);
     const double elapsed = seconds(Clock::now() - loopStart);
-    const double eta = elapsed / (f - startFrame + 1) * (lastFrame - f);
-    fmt::print(stderr, "[frame {:4d}/{}] t = {:.4f} s  steps {:6d}  dt {:.2e} s  particles {}  elapsed {}  left ~{}\n", f,
-               lastFrame, sim.time(), sim.stepCount(), sim.counters().lastDt, sim.particles().size(),
-               formatDuration(elapsed), formatDuration(eta));
+    const std::string detail = fmt::format("frame {}/{} t = {:.4f} s  particles {}  step {}", f, lastFrame, sim.time(),
+                                           sim.particles().size(), sim.stepCount());
+    progress.update(sim.time(), double(sim.particles().size()), detail);
+    if (!progress.terminal())
+      fmt::print(stderr, "[frame {:4d}/{}] t = {:.4f} s  steps {:6d}  dt {:.2e} s  particles {}  elapsed {}  left ~{}\n", f,
+                 lastFrame, sim.time(), sim.stepCount(), sim.counters().lastDt, sim.particles().size(), formatDuration(elapsed),
+                 formatDuration(progress.eta()));
   }
+  progress.finish();
 
   const auto& c = sim.counters();
   const uint64_t steps = sim.stepCount() - steps0;
