@@ -487,19 +487,19 @@ struct PathTracer::Impl {
         if (m.kind == MaterialSpec::Kind::Medium && m.scattering > 0) {
           // Free flight by the scattering coefficient, measured from the segment's start (it goes
           // on through boundaries that do not exist here); absorption weights the segment.
-          if (flight < 0) flight = -std::log(1 - smp.bounce1D(Sampler::FreeFlight)) / m.scattering;
+          if (flight < 0) flight = -std::log(1 - smp.next1D()) / m.scattering;
           if (flight < seg) {
             throughput = mul(throughput, expNeg(m.absorption, flight - done));
             add(mul(throughput, m.emission) * (flight - done));
             const Vec3 p = start + d * flight;
             Real u1, u2;
-            smp.bounce2D(Sampler::Light, u1, u2);
-            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, rays, record, shadow)), false);
+            smp.next2D(u1, u2);
+            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, rays, record, shadow)));
             indirect = true;
             lightCounted = true;
             newSegment(p);
             leaving = -1;
-            smp.bounce2D(Sampler::Direction, u1, u2);
+            smp.next2D(u1, u2);
             d = uniformSphere(u1, u2);
             misOpen = true, misVertex = p, misLobePdf = 1 / (4 * M_PI);
             ++bounces;
@@ -580,7 +580,7 @@ struct PathTracer::Impl {
         F = fresnel(cosi, cost, n1, n2);
       }
       Vec3 next;
-      bool reflect = smp.bounce1D(Sampler::Choice) < F;
+      bool reflect = smp.next1D() < F;
       if (!reflect) {
         next = unit(d * eta + n * (eta * cosi - cost));
         if (dot(next, incidentSide) >= 0) reflect = true;  // shading normal bent it back
@@ -596,10 +596,10 @@ struct PathTracer::Impl {
           // reflection is blurred by that angle instead of being a rare, clamped firefly.
           const Real coneCos = std::cos(settings.regularise * M_PI / 180);
           Real u1, u2;
-          smp.bounce2D(Sampler::Light, u1, u2);
+          smp.next2D(u1, u2);
           add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, rays, record, shadow, &next, coneCos)),
               false);
-          smp.bounce2D(Sampler::Direction, u1, u2);
+          smp.next2D(u1, u2);
           const Vec3 blurred = sampleCone(next, coneCos, u1, u2);
           if (dot(blurred, incidentSide) <= 0) break;  // into the surface: lost
           next = blurred;
@@ -619,19 +619,19 @@ struct PathTracer::Impl {
     return L;
   }
 
-  Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, const Sampler& smp,
+  Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Sampler& smp,
                      uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch) const {
     // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
     const bool mesh = h.kind == Hit::Mesh;
     const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
     Real u1, u2;
-    smp.bounce2D(Sampler::Light, u1, u2);
+    smp.next2D(u1, u2);
     const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, rays, record, scratch));
     o = p;
-    smp.bounce2D(Sampler::Direction, u1, u2);
+    smp.next2D(u1, u2);
     d = cosineHemisphere(h.ns, u1, u2);
     if (dot(d, h.ng) <= 0) {
-      smp.bounce2D(Sampler::Fallback, u1, u2);
+      smp.next2D(u1, u2);
       d = cosineHemisphere(h.ng, u1, u2);
     }
     return direct;
@@ -641,11 +641,11 @@ struct PathTracer::Impl {
   /// probability q = its throughput's largest component where that is below 1 (never killed
   /// otherwise: chains through clear glass keep a throughput near 1), and the survivors are
   /// weighted by 1 / q: unbiased. `smp` is at the bounce that just ended.
-  MF_INLINE static bool russianRoulette(Vec3& throughput, const Sampler& smp) {
+  MF_INLINE static bool russianRoulette(Vec3& throughput, Sampler& smp) {
     if (smp.bounce() < 3) return true;
     const Real q = maxComponent(throughput);
     if (q >= 1) return true;
-    if (q <= 0 || smp.bounce1D(Sampler::Roulette) >= q) return false;
+    if (q <= 0 || smp.next1D() >= q) return false;
     throughput *= 1 / q;
     return true;
   }

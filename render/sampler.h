@@ -5,9 +5,9 @@
 // so that pairs are independent of each other and of other pixels, while within a pair any
 // prefix of 2^m samples is stratified in every elementary interval.
 //
-// A path uses fixed dimensions per bounce (Sampler::Slot), so that sample k's bounce-2 light
-// sample and sample j's are drawn from the same stratified set. Everything is a pure function of
-// (pixel seed, sample index, dimension): the same bits on any thread count.
+// A path takes dimension pairs in the order it draws them (next1D, next2D), as pbrt's samplers
+// do. Everything is a pure function of (pixel seed, sample index, dimension): the same bits on
+// any thread count.
 #pragma once
 
 #include <cstdint>
@@ -16,9 +16,7 @@ namespace mf::render {
 
 class Sampler {
  public:
-  // The dimensions of one bounce; each is drawn at most once per bounce.
-  enum Slot : uint32_t { FreeFlight, Light, Direction, Choice, Roulette, Fallback, kSlots };
-  static constexpr uint32_t kCameraPairs = 1;  // the pixel position
+  static constexpr uint32_t kCameraPairs = 1;  // pair 0: the pixel position
 
   /// `seed`: the pixel's (see pixelSeed); `index`: the sample within the pixel. `random`:
   /// independent hashed values instead (for comparison: render.sobol = false).
@@ -28,8 +26,8 @@ class Sampler {
     return mix(mix(mix(0x5851F42D4C957F2Dull ^ frame) ^ y) ^ x);
   }
 
-  void startBounce(int bounce) { bounce_ = uint32_t(bounce), base_ = kCameraPairs + bounce_ * kSlots; }
-  int bounce() const { return int(bounce_); }
+  void startBounce(int bounce) { bounce_ = uint32_t(bounce); }
+  int bounce() const { return int(bounce_); }  // the path's bounce (for the roulette)
 
   /// A point of the pixel's sequence in [0, 1)^2, for dimension pair `pair`.
   void get2D(uint32_t pair, double& u, double& v) const {
@@ -53,9 +51,9 @@ class Sampler {
     const uint32_t s = uint32_t(mix(seed_ ^ (uint64_t(pair) << 32)));
     return toUnit(nestedUniformScramble(sobol0(nestedUniformScramble(index_, s)), hash(s ^ 0xA511E9B3u)));
   }
-  // This bounce's slots.
-  void bounce2D(Slot slot, double& u, double& v) const { get2D(base_ + slot, u, v); }
-  double bounce1D(Slot slot) const { return get1D(base_ + slot); }
+  /// The path's next dimensions.
+  void next2D(double& u, double& v) { get2D(next_++, u, v); }
+  double next1D() { return get1D(next_++); }
 
  private:
   static uint64_t mix(uint64_t x) {  // splitmix64's finaliser
@@ -97,7 +95,7 @@ class Sampler {
   bool random_;
   uint64_t seed_;
   uint32_t index_;
-  uint32_t bounce_ = 0, base_ = kCameraPairs;
+  uint32_t bounce_ = 0, next_ = kCameraPairs;
 };
 
 }  // namespace mf::render
