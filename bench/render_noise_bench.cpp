@@ -12,7 +12,8 @@
 //   rel MAE   mean |x - r| / (r + 0.1): less moved by rare fireflies than the RMSE
 // as the mean over 512 / spp renders with independent seeds (at most 64; one render's RMSE moves
 // by a factor 4 with its fireflies).
-// and, at the first spp, the frame-to-frame change on the static glass scene: the % of pixels
+// then the rel RMSE of the mean of those renders (an unbiased renderer's matches that of one
+// render with all their samples), and, at the first spp, the frame-to-frame change on the static glass scene: the % of pixels
 // that differ by more than 0.016 (idiff, as displayed) between frames 0 and 1.
 // Figures are in docs/rendering.md, with the renderer they belong to.
 #include <fmt/format.h>
@@ -232,9 +233,10 @@ int main(int argc, char** argv) {
       auto tracer = makeScene(name, spp, false, true);
       render::RenderStats st;
       double best = 1e30, mse = 0, black = 0, mae = 0;
-      render::Image x;
+      render::Image x, mean(ref.width, ref.height);
       for (int rep = 0; rep < reps; ++rep) {
         x = tracer->render(rep + 1, &st);
+        for (size_t i = 0; i < x.rgb.size(); ++i) mean.rgb[i] += x.rgb[i] / reps;
         best = std::min(best, st.seconds);
         const Error one = measure(x, ref);
         mse += one.relRmse * one.relRmse / reps, black += one.black / reps, mae += one.relMae / reps;
@@ -242,6 +244,8 @@ int main(int argc, char** argv) {
       Error e{std::sqrt(mse), black, mae};
       fmt::print("  {:<5} {:>5} spp: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s  ({} renders)\n", name, spp,
                  e.relRmse, e.relMae, 100 * e.black, best, reps);
+      if (reps > 1)  // unbiased: the mean of the renders has the error of reps * spp samples
+        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(mean, ref).relRmse);
       render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), x);
     }
   }
