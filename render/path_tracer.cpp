@@ -1,4 +1,5 @@
 #include "path_tracer.h"
+#include "sampler.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range2d.h>
@@ -22,32 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// PCG32 (O'Neill 2014): small state, good statistics, cheap to seed per pixel sample.
-class Rng {
- public:
-  Rng(uint64_t a, uint64_t b, uint64_t c) {
-    state_ = splitmix(a * 0x9E3779B97F4A7C15ull ^ splitmix(b ^ splitmix(c)));
-    inc_ = (splitmix(state_ + c) << 1) | 1;
-    next();
-  }
-  double uniform() { return (next() >> 8) * (1.0 / 16777216.0); }  // [0, 1), 24 bits
-
- private:
-  static uint64_t splitmix(uint64_t x) {
-    x += 0x9E3779B97F4A7C15ull;
-    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-    return x ^ (x >> 31);
-  }
-  uint32_t next() {
-    const uint64_t old = state_;
-    state_ = old * 6364136223846793005ull + inc_;
-    const uint32_t xorshifted = uint32_t(((old >> 18u) ^ old) >> 27u);
-    const uint32_t rot = uint32_t(old >> 59u);
-    return (xorshifted >> rot) | (xorshifted << ((32 - rot) & 31));
-  }
-  uint64_t state_, inc_;
-};
 
 // The shading path is small functions on doubles; a call there spills every live register (the
 // x86-64 ABI saves none), which cost more than the arithmetic. The hot ones are forced inline.
@@ -70,15 +45,15 @@ void basis(const Vec3& n, Vec3& t, Vec3& b) {
   b = {c, s + n.y * n.y * a, -n.y};
 }
 
-MF_INLINE Vec3 cosineHemisphere(const Vec3& n, Rng& rng) {
-  const Real u1 = rng.uniform(), u2 = rng.uniform(), r = std::sqrt(u1), phi = 2 * M_PI * u2;
+MF_INLINE Vec3 cosineHemisphere(const Vec3& n, Real u1, Real u2) {
+  const Real r = std::sqrt(u1), phi = 2 * M_PI * u2;
   Vec3 t, b;
   basis(n, t, b);
   return unit(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1)));
 }
 
-Vec3 uniformSphere(Rng& rng) {
-  const Real z = 1 - 2 * rng.uniform(), r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * rng.uniform();
+Vec3 uniformSphere(Real u1, Real u2) {
+  const Real z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
@@ -136,6 +111,18 @@ void skipFilter(const RTCFilterFunctionNArguments* args) {
     if (args->valid[i] && RTCHitN_geomID(args->hit, args->N, i) == c->skipGeometry &&
         RTCRayN_tfar(args->ray, args->N, i) < c->skipDistance)
       args->valid[i] = 0;
+}
+
+/// The power heuristic (Veach 1997, beta = 2): the weight of the strategy with density `a`.
+MF_INLINE Real powerHeuristic(Real a, Real b) { return a * a / (a * a + b * b); }
+
+/// The density of a uniform cone of directions with cosine `cosMax`, and a sample of it.
+MF_INLINE Real conePdf(Real cosMax) { return 1 / (2 * M_PI * (1 - cosMax)); }
+Vec3 sampleCone(const Vec3& axis, Real cosMax, Real u1, Real u2) {
+  const Real cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT)), phi = 2 * M_PI * u2;
+  Vec3 t, b;
+  basis(axis, t, b);
+  return unit(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + axis * cosT);
 }
 
 RTCBounds emptyBox() { return {1e30f, 1e30f, 1e30f, 0, -1e30f, -1e30f, -1e30f, 0}; }
@@ -301,6 +288,13 @@ struct PathTracer::Impl {
     return (i & 1) ? Vec3{0.15, 0.15, 0.15} : Vec3{0.75, 0.75, 0.75};
   }
 
+  /// The solid-angle density of directLight's samples from p (0 inside the light).
+  Real lightPdf(const Vec3& p) const {
+    const Real d2 = lengthSquared(settings.lightPosition - p), r2 = settings.lightRadius * settings.lightRadius;
+    if (settings.lightRadius <= 0 || d2 <= r2) return 0;
+    return 1 / (2 * M_PI * (1 - std::sqrt(1 - r2 / d2)));
+  }
+
   Real intersectLight(const Vec3& o, const Vec3& d) const {
     if (settings.lightRadius <= 0) return -1;
     const Vec3 oc = o - settings.lightPosition;
@@ -382,8 +376,10 @@ struct PathTracer::Impl {
   /// Transmittance towards a light sample through clear volumes (a transparent-shadow
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
+  /// `crossed`: set when the ray crossed a surface (a path the BSDF sampling cannot make).
   Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, uint64_t& rays,
-                     std::vector<RecordedRay>* record, Hit& h) const {
+                     std::vector<RecordedRay>* record, Hit& h, bool& crossed) const {
+    crossed = false;
     Vec3 T{1, 1, 1};
     const Real firstLight = dist;  // the caller's intersectLight(o, d)
     for (int crossing = 0; crossing < 32; ++crossing) {
@@ -400,6 +396,7 @@ struct PathTracer::Impl {
       if (m.kind == MaterialSpec::Kind::Diffuse || m.kind == MaterialSpec::Kind::Emitter) return {};
       if (dot(d, h.ng) < 0) stack.push(h.material);
       else stack.remove(h.material);
+      crossed = true;
       if (maxComponent(T) < 1e-4) return {};
       o = h.p;
       leaving = h.material;
@@ -410,16 +407,20 @@ struct PathTracer::Impl {
     return T;
   }
 
-  /// Light from the spherical lamp at p with a cosine (surface) or isotropic (medium) lobe.
-  Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Rng& rng, uint64_t& rays,
-                   std::vector<RecordedRay>* record, Hit& scratch) const {
+  /// Light from the spherical lamp at p with a cosine (surface) or isotropic (medium) lobe,
+  /// sampled uniformly in the cone the sphere subtends (u1, u2), weighted by the power heuristic
+  /// against the lobe's own sampling where that can find the same path (see trace).
+  /// `cone`: instead, a uniform cone of directions around *cone with cosine coneCos (a
+  /// regularised mirror, see trace).
+  Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Real u1, Real u2,
+                   uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch, const Vec3* cone = nullptr,
+                   Real coneCos = 1) const {
     if (settings.lightRadius <= 0) return {};
     const Vec3 toCentre = settings.lightPosition - p;
     const Real d2 = lengthSquared(toCentre), r2 = settings.lightRadius * settings.lightRadius;
     if (d2 <= r2) return {};
     // Uniform sampling of the cone the sphere subtends.
     const Real cosMax = std::sqrt(1 - r2 / d2);
-    const Real u1 = rng.uniform(), u2 = rng.uniform();
     const Real cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT)), phi = 2 * M_PI * u2;
     const Vec3 w = toCentre / std::sqrt(d2);
     Vec3 t, b;
@@ -427,7 +428,10 @@ struct PathTracer::Impl {
     const Vec3 dir = unit(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + w * cosT);
     const Real pdf = 1 / (2 * M_PI * (1 - cosMax));
     Real lobe;  // BSDF or phase function times cosine
-    if (normal) {
+    if (cone) {
+      if (dot(*cone, dir) < coneCos) return {};
+      lobe = conePdf(coneCos);
+    } else if (normal) {
       const Real c = dot(*normal, dir);
       if (c <= 0) return {};
       lobe = c / M_PI;
@@ -436,53 +440,77 @@ struct PathTracer::Impl {
     }
     const Real tl = intersectLight(p, dir);
     if (tl <= 0) return {};
-    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, rays, record, scratch);
-    return mul(T, settings.lightEmission) * (lobe / pdf);
+    bool crossed;
+    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, rays, record, scratch, crossed);
+    // A shadow ray through surfaces stands for paths that refraction would bend: the lobe's
+    // sampling never makes them (trace drops its light hits there), so the light sample keeps
+    // its full weight.
+    const Real weight = crossed || !settings.mis ? 1 : powerHeuristic(pdf, lobe);
+    return mul(T, settings.lightEmission) * (weight * lobe / pdf);
   }
 
   /// `h`, `shadow`: scratch hits (the caller's, so that they are not cleared for every path).
-  Vec3 trace(Vec3 o, Vec3 d, Rng& rng, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow) const {
+  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow) const {
     Vec3 L, throughput{1, 1, 1};
     MediumStack stack;
     bool lightCounted = false;  // a direct-light estimate already covered this path's next light hit
     bool indirect = false;      // past a diffuse or scattering vertex
+    // Multiple importance sampling: the last diffuse or scattering vertex and the density its
+    // lobe sampled the direction with, while no surface lies between it and the ray's next hit.
+    bool misOpen = false;
+    Vec3 misVertex;
+    Real misLobePdf = 0;
     int bounces = 0, passes = 0;
-    // Light reached after a diffuse vertex through specular chains (caustics) has huge variance
-    // at a few samples; like Cycles' "clamp indirect", cap such contributions.
-    auto add = [&](const Vec3& c) __attribute__((always_inline)) {
+    // Light found by following specular chains after a diffuse vertex (caustics: no light
+    // sample can find it) has huge variance at a few samples; like Cycles' "clamp indirect", cap
+    // such contributions. Light samples (bounded by the light's solid angle) are never capped.
+    auto add = [&](const Vec3& c, bool clampable = true) __attribute__((always_inline)) {
       const Real m = maxComponent(c);
-      L += indirect && m > settings.indirectClamp && settings.indirectClamp > 0 ? c * (settings.indirectClamp / m) : c;
+      L += clampable && indirect && m > settings.indirectClamp && settings.indirectClamp > 0 ? c * (settings.indirectClamp / m) : c;
     };
     Vec3 start = o;    // where the current segment begins
+    Real flight = -1;  // the sampled free flight from `start` in a scattering medium (-1: not drawn)
+    Real done = 0;     // how far from `start` absorption and emission are accounted for
     int leaving = -1;  // the geometry the ray starts on
     unsigned leavingPrim = 0;  // and its triangle
+    auto newSegment = [&](const Vec3& p) __attribute__((always_inline)) {
+      o = start = p;
+      flight = -1, done = 0;
+    };
     while (bounces < settings.maxDepth) {
+      smp.startBounce(bounces);
       intersect(o, d, 1e30, leaving, leavingPrim, rays, record, h);
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
         const Real seg = h.kind == Hit::None ? 1e30 : length(h.p - start);
         if (m.kind == MaterialSpec::Kind::Medium && m.scattering > 0) {
-          // Free flight by the scattering coefficient; absorption weights the segment.
-          const Real s = -std::log(1 - rng.uniform()) / m.scattering;
-          if (s < seg) {
-            throughput = mul(throughput, expNeg(m.absorption, s));
-            add(mul(throughput, m.emission) * s);
-            const Vec3 p = o + d * s;
-            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, rng, rays, record, shadow)));
+          // Free flight by the scattering coefficient, measured from the segment's start (it goes
+          // on through boundaries that do not exist here); absorption weights the segment.
+          if (flight < 0) flight = -std::log(1 - smp.next1D()) / m.scattering;
+          if (flight < seg) {
+            throughput = mul(throughput, expNeg(m.absorption, flight - done));
+            add(mul(throughput, m.emission) * (flight - done));
+            const Vec3 p = start + d * flight;
+            Real u1, u2;
+            smp.next2D(u1, u2);
+            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, rays, record, shadow)));
             indirect = true;
             lightCounted = true;
-            o = start = p;
+            newSegment(p);
             leaving = -1;
-            d = uniformSphere(rng);
+            smp.next2D(u1, u2);
+            d = uniformSphere(u1, u2);
+            misOpen = true, misVertex = p, misLobePdf = 1 / (4 * M_PI);
             ++bounces;
-            if (!russianRoulette(throughput, bounces, rng)) break;
+            if (!russianRoulette(throughput, smp)) break;
             continue;
           }
         }
         if (seg < 1e30) {
-          if (m.emission != Vec3{}) add(mul(throughput, m.emission) * seg);  // adding zero changes nothing
-          throughput = mul(throughput, expNeg(m.absorption, seg));
+          if (m.emission != Vec3{}) add(mul(throughput, m.emission) * (seg - done));  // adding zero changes nothing
+          throughput = mul(throughput, expNeg(m.absorption, seg - done));
+          done = seg;
         }
       }
       if (h.kind == Hit::None) {
@@ -490,9 +518,15 @@ struct PathTracer::Impl {
         break;
       }
       if (h.kind == Hit::Light) {
-        if (!lightCounted) add(mul(throughput, settings.lightEmission));
+        if (misOpen) {  // the light sample at misVertex could have found this path too
+          const Real w = settings.mis ? powerHeuristic(misLobePdf, lightPdf(misVertex)) : 0;
+          if (w > 0) add(mul(throughput, settings.lightEmission) * w, false);
+        } else if (!lightCounted) {
+          add(mul(throughput, settings.lightEmission));
+        }
         break;
       }
+      misOpen = false;  // any surface ends what the light sample could have seen
       const MaterialSpec* m = h.kind == Hit::Mesh ? &materials[h.material] : nullptr;
       if (m && m->kind == MaterialSpec::Kind::Emitter) {
         add(mul(throughput, m->emission));
@@ -501,15 +535,16 @@ struct PathTracer::Impl {
       if (!m || m->kind == MaterialSpec::Kind::Diffuse) {  // the table, or a diffuse mesh
         const Vec3 albedo = m ? m->colour : floorAlbedo(h.p);
         if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
-        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, rng, rays, record, shadow)));
+        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, rays, record, shadow)), false);
         leaving = m ? h.material : -1;
         leavingPrim = h.prim;
         indirect = true;
         throughput = mul(throughput, albedo);
-        start = o;
+        start = o, flight = -1, done = 0;
+        misOpen = true, misVertex = o, misLobePdf = std::max(0.0, dot(d, h.ns)) / M_PI;
         lightCounted = true;
         ++bounces;
-        if (!russianRoulette(throughput, bounces, rng)) break;
+        if (!russianRoulette(throughput, smp)) break;
         continue;
       }
       // A dielectric boundary (clear liquid, glass, bubble, or a medium's surface).
@@ -545,7 +580,7 @@ struct PathTracer::Impl {
         F = fresnel(cosi, cost, n1, n2);
       }
       Vec3 next;
-      bool reflect = rng.uniform() < F;
+      bool reflect = smp.next1D() < F;
       if (!reflect) {
         next = unit(d * eta + n * (eta * cosi - cost));
         if (dot(next, incidentSide) >= 0) reflect = true;  // shading normal bent it back
@@ -553,39 +588,64 @@ struct PathTracer::Impl {
       if (reflect) {
         next = unit(d + n * (2 * cosi));
         if (dot(next, incidentSide) <= 0) next = unit(d + incidentSide * (-2 * dot(d, incidentSide)));
-        o = start = h.p;
-        leaving = h.material;
-        leavingPrim = h.prim;
         lightCounted = false;  // reflections are not covered by the transparent shadow rays
+        if (indirect && settings.regularise > 0) {
+          // Path regularisation (Kaplanyan & Dachsbacher 2013): after a diffuse or scattering
+          // vertex the mirror becomes a uniform cone of half-angle `regularise`, so that a light
+          // sample finds the lamp through it (MIS with the cone's own sampling): a caustic by
+          // reflection is blurred by that angle instead of being a rare, clamped firefly.
+          const Real coneCos = std::cos(settings.regularise * M_PI / 180);
+          Real u1, u2;
+          smp.next2D(u1, u2);
+          add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, rays, record, shadow, &next, coneCos)),
+              false);
+          smp.next2D(u1, u2);
+          const Vec3 blurred = sampleCone(next, coneCos, u1, u2);
+          if (dot(blurred, incidentSide) <= 0) break;  // into the surface: lost
+          next = blurred;
+          misOpen = true, misVertex = h.p, misLobePdf = conePdf(coneCos);
+          lightCounted = true;
+        }
       } else {
         stack = after;
-        o = start = h.p;
-        leaving = h.material;
-        leavingPrim = h.prim;
       }
+      newSegment(h.p);
+      leaving = h.material;
+      leavingPrim = h.prim;
       d = next;
       ++bounces;
-      if (!russianRoulette(throughput, bounces, rng)) break;
+      if (!russianRoulette(throughput, smp)) break;
     }
     return L;
   }
 
-  Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Rng& rng,
+  Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Sampler& smp,
                      uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch) const {
     // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
     const bool mesh = h.kind == Hit::Mesh;
     const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
-    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, rng, rays, record, scratch));
+    Real u1, u2;
+    smp.next2D(u1, u2);
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, rays, record, scratch));
     o = p;
-    d = cosineHemisphere(h.ns, rng);
-    if (dot(d, h.ng) <= 0) d = cosineHemisphere(h.ng, rng);
+    smp.next2D(u1, u2);
+    d = cosineHemisphere(h.ns, u1, u2);
+    if (dot(d, h.ng) <= 0) {
+      smp.next2D(u1, u2);
+      d = cosineHemisphere(h.ng, u1, u2);
+    }
     return direct;
   }
 
-  MF_INLINE static bool russianRoulette(Vec3& throughput, int bounces, Rng& rng) {
-    if (bounces < 4) return true;
-    const Real q = std::min(0.95, maxComponent(throughput));
-    if (q <= 0 || rng.uniform() >= q) return false;
+  /// Russian roulette from the fourth bounce on, as pbrt-v4 plays it: a path survives with
+  /// probability q = its throughput's largest component where that is below 1 (never killed
+  /// otherwise: chains through clear glass keep a throughput near 1), and the survivors are
+  /// weighted by 1 / q: unbiased. `smp` is at the bounce that just ended.
+  MF_INLINE static bool russianRoulette(Vec3& throughput, Sampler& smp) {
+    if (smp.bounce() < 3) return true;
+    const Real q = maxComponent(throughput);
+    if (q >= 1) return true;
+    if (q <= 0 || smp.next1D() >= q) return false;
     throughput *= 1 / q;
     return true;
   }
@@ -624,12 +684,16 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < s.width; ++x) {
         Vec3 sum;
+        // The frame is part of the pixel's seed only with animated_seed (see docs/rendering.md).
+        const uint64_t seed = Sampler::pixelSeed(x, y, s.animatedSeed ? uint64_t(frame) + 1 : 0);
         for (int k = 0; k < s.samples; ++k) {
-          Rng rng(uint64_t(frame) + 1, uint64_t(y) * uint64_t(s.width) + x, uint64_t(k));
-          const Real px = (2 * (x + rng.uniform()) / s.width - 1) * tanHalf * aspect;
-          const Real py = (1 - 2 * (y + rng.uniform()) / s.height) * tanHalf;
+          Sampler smp(seed, uint32_t(k), !s.sobol);
+          Real jx, jy;
+          smp.get2D(0, jx, jy);
+          const Real px = (2 * (x + jx) / s.width - 1) * tanHalf * aspect;
+          const Real py = (1 - 2 * (y + jy) / s.height) * tanHalf;
           const Vec3 d = unit(im.camW + im.camU * px + im.camV * py);
-          Vec3 c = im.trace(s.cameraPosition, d, rng, count, rec, hit, shadow);
+          Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow);
           if (!isFinite(c)) c = {};
           sum += c;
         }

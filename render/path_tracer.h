@@ -3,8 +3,9 @@
 // Beer-Lambert absorption, a homogeneous scattering medium for wax, diffuse table and walls,
 // a spherical area light sampled directly and a sky. Embree 3 finds the hits; TBB runs tiles.
 //
-// Deterministic: each pixel sample draws from its own random sequence keyed by (frame, pixel,
-// sample), and pixels are independent, so the image bits do not depend on the thread count.
+// Deterministic: each pixel sample's values are Owen-scrambled Sobol points keyed by (pixel,
+// sample, dimension) (render/sampler.h; the frame too with render.animated_seed), and pixels are
+// independent, so the image bits do not depend on the thread count.
 #pragma once
 
 #include <functional>

@@ -217,6 +217,10 @@ struct RenderSettings {
   int samples = 16;                 // paths per pixel
   int maxDepth = 16;                // bounces per path
   Real indirectClamp = 1;           // cap on light arriving after a diffuse bounce (0: none)
+  Real regularise = 0;              // degrees: mirrors after a diffuse vertex blurred by this cone (0: off)
+  bool sobol = true;                // Owen-scrambled Sobol samples (false: independent random ones)
+  bool mis = true;                  // light samples and lobe samples weighted by the power heuristic
+  bool animatedSeed = false;        // the frame in the sampler's seed (noise changes every frame)
   std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
   Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
   Real fov = 40;                    // vertical, degrees

@@ -122,6 +122,10 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.samples = t.integer("samples", o.samples, 1, 1e5, "per pixel");
   o.maxDepth = t.integer("max_depth", o.maxDepth, 1, 1000, "bounces");
   o.indirectClamp = t.number("indirect_clamp", o.indirectClamp, 0, 1e9, "(relative radiance; 0 = off)");
+  o.regularise = t.number("regularise", o.regularise, 0, 45, "degrees (0 = off)");
+  o.sobol = t.boolean("sobol", o.sobol);
+  o.mis = t.boolean("mis", o.mis);
+  o.animatedSeed = t.boolean("animated_seed", o.animatedSeed);
   if (t.has("phases")) {
     const toml::node* pn = t.node("phases");
     const toml::array* pa = pn->as_array();

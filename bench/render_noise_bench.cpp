@@ -1,0 +1,259 @@
+// Noise of the path tracer against a high-spp reference, on two small canned scenes of the
+// golden tests: the ball of water in a glass (dielectrics, the table, sphere light and sky) and
+// a wax blob in the lava lamp (a dense scattering medium lit from below).
+//   ./build/bench/render_noise_bench [--ref-spp N] [--ref-dir DIR] [--spp a,b,...] [--set render.KEY=VALUE]...
+// The reference is rendered once with indirect_clamp = 0 (no bias from the clamp) and kept in
+// DIR (default /tmp/mf_noise_ref) as raw floats, so that later renderers are measured against
+// the same image; delete it to render it again. For every spp it prints
+//   rel RMSE  sqrt(mean over pixels and channels of (x - r)^2 / (r^2 + 0.01))
+//   black     the fraction of pixels with luminance < 5 % of the reference's (of the pixels
+//             whose reference luminance is above 0.02)
+//   time      wall seconds of one image (the best of the renders)
+//   rel MAE   mean |x - r| / (r + 0.1): less moved by rare fireflies than the RMSE
+// as the mean over 512 / spp renders with independent seeds (at most 64; one render's RMSE moves
+// by a factor 4 with its fireflies).
+// then the rel RMSE of the mean of those renders (an unbiased renderer's matches that of one
+// render with all their samples), and, at the first spp, the frame-to-frame change on the static glass scene: the % of pixels
+// that differ by more than 0.016 (idiff, as displayed) between frames 0 and 1.
+// Figures are in docs/rendering.md, with the renderer they belong to.
+#include <fmt/format.h>
+#include <openvdb/tools/LevelSetSphere.h>
+#include <tbb/info.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "render/path_tracer.h"
+#include "sim/scene_file.h"
+
+using namespace mf;
+
+namespace {
+
+const char* kGlass = R"(
+[scene]
+name = "glass"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.2, -0.1, -0.2]
+domain_max = [0.2, 0.4, 0.2]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 1000.0
+[[solid]]
+name = "glass"
+shape = "cylinder"
+base = [0.0, 0.0, 0.0]
+radius = 0.06
+height = 0.16
+open_top = true
+[[fluid]]
+phase = "water"
+min = [-0.02, 0.0, -0.02]
+max = [0.02, 0.04, 0.02]
+[effects.gravity]
+[render]
+width = 160
+height = 90
+camera_position = [0.0, 0.12, 0.45]
+look_at = [0.0, 0.06, 0.0]
+fov = 35
+light_position = [0.3, 0.6, 0.4]
+light_radius = 0.08
+checker_size = 0.03
+)";
+
+// The lava_lamp scene's lamp, wax and light (configs/lava_lamp.toml) with one blob of wax above
+// the bulb in place of the simulated wax.
+const char* kLamp = R"(
+[scene]
+name = "lamp"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.2, -0.1, -0.2]
+domain_max = [0.2, 1.3, 0.2]
+[solver]
+particle_spacing = 0.02
+[[phase]]
+name = "fluid"
+rest_density = 500.0
+stiffness = 1000.0
+[[phase]]
+name = "wax"
+rest_density = 1000.0
+stiffness = 1000.0
+[[solid]]
+name = "vessel"
+shape = "revolution"
+base = [0.0, 0.0, 0.0]
+profile = [[0.0, 0.13], [0.35, 0.17], [0.8, 0.15], [1.15, 0.10]]
+[[fluid]]
+phase = "fluid"
+min = [-0.1, 0.0, -0.1]
+max = [0.1, 0.9, 0.1]
+[effects.gravity]
+[render]
+width = 90
+height = 160
+camera_position = [0.0, 0.6, 2.6]
+look_at = [0.0, 0.56, 0.0]
+fov = 30
+sky_zenith = [0.07, 0.07, 0.09]
+sky_horizon = [0.07, 0.07, 0.09]
+sky_ground = [0.07, 0.07, 0.09]
+light_position = [0.0, -0.07, 0.0]
+light_radius = 0.05
+light_emission = [80.0, 60.0, 30.0]
+floor = false
+[render.material.fluid]
+ior = 1.34
+absorption = [3.0, 1.5, 0.3]
+[render.material.wax]
+kind = "medium"
+ior = 1.44
+absorption = [1.0, 12.0, 20.0]
+scattering = 60.0
+priority = 15
+[render.material.vessel]
+thickness = 0.006
+)";
+
+std::vector<std::string> extraKeys;  // --set KEY=VALUE, for the renders measured (not the reference)
+
+/// `animated`: the frame in the sampler's seed, so that frames are independent renders (a
+/// renderer without the animated_seed key keys by frame always).
+std::unique_ptr<render::PathTracer> makeScene(const std::string& name, int spp, bool reference, bool animated = false) {
+  std::vector<std::string> overrides = {fmt::format("render.samples={}", spp)};
+  if (reference) overrides.push_back("render.indirect_clamp=0");
+  else overrides.insert(overrides.end(), extraKeys.begin(), extraKeys.end());
+  const char* text = name == "glass" ? kGlass : kLamp;
+  Scene sc;
+  try {
+    auto withSeed = overrides;
+    if (animated) withSeed.push_back("render.animated_seed=true");
+    sc = parseScene(text, name, withSeed);
+  } catch (const std::exception&) {
+    sc = parseScene(text, name, overrides);
+  }
+  std::vector<render::Surface> surfaces;
+  if (name == "glass") {
+    auto ball = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.045f, openvdb::Vec3f(0, 0.05f, 0), 0.002f, 3.0f);
+    surfaces.push_back({"water", render::levelSetMesh(*ball), sc.render.phaseMaterials[0]});
+  } else {
+    auto blob = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.09f, openvdb::Vec3f(0.02f, 0.15f, 0), 0.004f, 3.0f);
+    surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
+  }
+  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  return std::make_unique<render::PathTracer>(std::move(surfaces), sc.render);
+}
+
+double luminance(const render::Image& im, size_t p) {
+  return 0.2126 * im.rgb[3 * p] + 0.7152 * im.rgb[3 * p + 1] + 0.0722 * im.rgb[3 * p + 2];
+}
+
+struct Error {
+  double relRmse = 0, black = 0, relMae = 0;
+};
+
+Error measure(const render::Image& x, const render::Image& r) {
+  Error e;
+  double sum = 0;
+  size_t lit = 0, black = 0;
+  for (size_t i = 0; i < r.rgb.size(); ++i) {
+    const double d = double(x.rgb[i]) - r.rgb[i];
+    sum += d * d / (double(r.rgb[i]) * r.rgb[i] + 0.01);
+    e.relMae += std::abs(d) / (std::abs(double(r.rgb[i])) + 0.1);
+  }
+  e.relMae /= r.rgb.size();
+  e.relRmse = std::sqrt(sum / r.rgb.size());
+  for (size_t p = 0; p < r.rgb.size() / 3; ++p) {
+    const double lr = luminance(r, p);
+    if (lr <= 0.02) continue;
+    ++lit;
+    if (luminance(x, p) < 0.05 * lr) ++black;
+  }
+  e.black = lit ? double(black) / lit : 0;
+  return e;
+}
+
+render::Image reference(const std::string& name, int spp, const std::string& dir) {
+  const std::string path = fmt::format("{}/{}_{}spp.f32", dir, name, spp);
+  render::Image im;
+  if (std::ifstream in{path, std::ios::binary}) {
+    in.read(reinterpret_cast<char*>(&im.width), sizeof(int));
+    in.read(reinterpret_cast<char*>(&im.height), sizeof(int));
+    im.rgb.resize(size_t(im.width) * im.height * 3);
+    in.read(reinterpret_cast<char*>(im.rgb.data()), im.rgb.size() * sizeof(float));
+    render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), im);
+    fmt::print("  reference {} (read)\n", path);
+    return im;
+  }
+  render::RenderStats st;
+  im = makeScene(name, spp, true)->render(0, &st);
+  std::filesystem::create_directories(dir);
+  std::ofstream out{path, std::ios::binary};
+  out.write(reinterpret_cast<const char*>(&im.width), sizeof(int));
+  out.write(reinterpret_cast<const char*>(&im.height), sizeof(int));
+  out.write(reinterpret_cast<const char*>(im.rgb.data()), im.rgb.size() * sizeof(float));
+  render::writeImage(fmt::format("{}/{}_{}spp.exr", dir, name, spp), im);
+  render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), im);
+  fmt::print("  reference {} rendered in {:.1f} s\n", path, st.seconds);
+  return im;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  openvdb::initialize();
+  int refSpp = 4096;
+  std::string dir = "/tmp/mf_noise_ref", sppList = "8";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--ref-spp") refSpp = std::atoi(argv[i + 1]);
+    else if (a == "--ref-dir") dir = argv[i + 1];
+    else if (a == "--spp") sppList = argv[i + 1];
+    else if (a == "--set") extraKeys.push_back(argv[i + 1]);
+  }
+  std::vector<int> spps;
+  std::stringstream ss(sppList);
+  for (std::string t; std::getline(ss, t, ',');) spps.push_back(std::atoi(t.c_str()));
+  fmt::print("render_noise_bench: reference {} spp, {} threads\n", refSpp, tbb::info::default_concurrency());
+  for (const std::string name : {"glass", "lamp"}) {
+    const render::Image ref = reference(name, refSpp, dir);
+    for (int spp : spps) {
+      // Rel RMSE and black: over `reps` independent renders (frames 1..reps with animated
+      // seeds), as one pixel's firefly moves the figure of a single render by a lot.
+      const int reps = std::max(1, std::min(64, 512 / spp));
+      auto tracer = makeScene(name, spp, false, true);
+      render::RenderStats st;
+      double best = 1e30, mse = 0, black = 0, mae = 0;
+      render::Image x, mean(ref.width, ref.height);
+      for (int rep = 0; rep < reps; ++rep) {
+        x = tracer->render(rep + 1, &st);
+        for (size_t i = 0; i < x.rgb.size(); ++i) mean.rgb[i] += x.rgb[i] / reps;
+        best = std::min(best, st.seconds);
+        const Error one = measure(x, ref);
+        mse += one.relRmse * one.relRmse / reps, black += one.black / reps, mae += one.relMae / reps;
+      }
+      Error e{std::sqrt(mse), black, mae};
+      fmt::print("  {:<5} {:>5} spp: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s  ({} renders)\n", name, spp,
+                 e.relRmse, e.relMae, 100 * e.black, best, reps);
+      if (reps > 1)  // unbiased: the mean of the renders has the error of reps * spp samples
+        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(mean, ref).relRmse);
+      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), x);
+    }
+  }
+  auto glass = makeScene("glass", spps.front(), false);
+  const auto d = render::compareImages(glass->render(0), glass->render(1), 0.016);
+  fmt::print("  glass frame 0 -> 1 at {} spp: {:.1f} % of pixels differ by more than 0.016\n", spps.front(), d.failedPercent());
+  auto animated = makeScene("glass", spps.front(), false, true);
+  const auto da = render::compareImages(animated->render(0), animated->render(1), 0.016);
+  fmt::print("  (with animated_seed: {:.1f} %)\n", da.failedPercent());
+  return 0;
+}
