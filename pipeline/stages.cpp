@@ -124,10 +124,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
   Simulation sim(scene);
   const std::vector<size_t> seeded = phaseCounts(sim);  // before any checkpoint is loaded
   double tInit = seconds(Clock::now() - t0), tSim = 0, tWrite = 0, tCheckpoint = 0;
-  FrameInfo info;
-  info.sceneName = scene.name;
-  info.particleSpacing = scene.solver.particleSpacing;
-  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
+  FrameInfo info = frameInfoFor(scene);
 
   auto writeFrame = [&](int f) {
     if (f < opt.firstFrame) return;

@@ -21,6 +21,17 @@
 
 namespace mf {
 
+FrameInfo frameInfoFor(const Scene& scene, int frame, double time) {
+  FrameInfo info;
+  info.frame = frame;
+  info.time = time;
+  info.sceneName = scene.name;
+  info.particleSpacing = scene.solver.particleSpacing;
+  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
+  return info;
+}
+
+
 namespace {
 
 void initOpenVdb() {

@@ -23,6 +23,9 @@ struct FrameInfo {
   double particleSpacing = 0;
 };
 
+/// A frame's metadata for `scene`: its name, phase names and particle spacing.
+FrameInfo frameInfoFor(const Scene& scene, int frame = 0, double time = 0);
+
 /// Writes `path` under a temporary name, then renames it. The file bytes depend only on the
 /// particle data (OpenVDB's random file UUID is replaced by one derived from the content).
 void writeParticleFrame(const std::string& path, const ParticleSet& particles, const FrameInfo& info);

@@ -50,15 +50,7 @@ fs::path tempDir(const std::string& name) {
   return d;
 }
 
-mf::FrameInfo infoFor(const mf::Simulation& sim, int frame) {
-  mf::FrameInfo info;
-  info.frame = frame;
-  info.time = sim.time();
-  info.sceneName = sim.scene().name;
-  info.particleSpacing = sim.scene().solver.particleSpacing;
-  for (const auto& p : sim.scene().phases) info.phaseNames.push_back(p.name);
-  return info;
-}
+mf::FrameInfo infoFor(const mf::Simulation& sim, int frame) { return mf::frameInfoFor(sim.scene(), frame, sim.time()); }
 
 TEST(Determinism, BitIdenticalAcrossThreadCounts) {
   const mf::Scene scene = smallDamBreak();

@@ -22,10 +22,7 @@ double frameZeroCoverage(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("mf_framing_" + std::to_string(::getpid()) + "_" + name);
   fs::create_directories(dir);
   mf::Simulation sim(scene);
-  mf::FrameInfo info;
-  info.sceneName = scene.name;
-  info.particleSpacing = scene.solver.particleSpacing;
-  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
+  const mf::FrameInfo info = mf::frameInfoFor(scene);
   const std::string particles = (dir / "particles.vdb").string(), surface = (dir / "surface.vdb").string();
   mf::writeParticleFrame(particles, sim.particles(), info);
   mf::surfacing::surfaceFrame(particles, scene, surface, "", 0);

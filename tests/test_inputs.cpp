@@ -130,15 +130,7 @@ std::string stateBytes(mf::Simulation& sim) {
   return bytes;
 }
 
-mf::FrameInfo infoFor(const mf::Scene& scene, double time, int frame) {
-  mf::FrameInfo info;
-  info.frame = frame;
-  info.time = time;
-  info.sceneName = scene.name;
-  info.particleSpacing = scene.solver.particleSpacing;
-  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
-  return info;
-}
+mf::FrameInfo infoFor(const mf::Scene& scene, double time, int frame) { return mf::frameInfoFor(scene, frame, time); }
 
 // ---- checkpoints ------------------------------------------------------------------------------
 

@@ -20,10 +20,7 @@ TEST(PointCloud, SurfacingWritesEveryParticleWithItsAttributes) {
   const fs::path dir = fs::temp_directory_path() / ("mf_points_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   mf::Simulation sim(scene);
-  mf::FrameInfo info;
-  info.sceneName = scene.name;
-  info.particleSpacing = scene.solver.particleSpacing;
-  for (const auto& p : scene.phases) info.phaseNames.push_back(p.name);
+  const mf::FrameInfo info = mf::frameInfoFor(scene);
   const std::string particles = (dir / "particles" / "particles.0000.vdb").string();
   fs::create_directories(dir / "particles");
   mf::writeParticleFrame(particles, sim.particles(), info);
