@@ -1,0 +1,175 @@
+// body_stats: the bodies of fluid in a run's particle frames (sim/bodies.h), the measures issue 23
+// states the paper's scenes in. A body is a connected set of particles of one fluid, linked within
+// `link` spacings (1.5).
+//
+//   body_stats DIR [mid=Y] [link=1.5]
+//
+// Per frame and fluid: particles, bodies, the largest body, bodies of 8 or more particles, the
+// share of the fluid in bodies under 10 particles ("spray"); "risen": bodies of 2-50 % of the fluid
+// (blobs, not the pool, not spray) whose centroid is above y = mid (default: the middle of the
+// frames' particle heights in frame 0); "under": bodies of 8 or more whose top is below another
+// fluid's particle within 2 spacings across (bubbles under a surface); "round": the mean roundness
+// of bodies of 20-200 particles (1 a ball). Then, over the run, per fluid:
+//   - risen events: risen bodies that share no particle with a risen body of the frame before;
+//   - returns: risen bodies of one frame whose particles are, in the next, mostly in the fluid's
+//     largest body;
+//   - bursts: bodies of 8 or more that were under a surface in one frame and whose particles are
+//     all gone (removed) or no longer under one in the next;
+//   - the most risen and under-surface bodies at once, the largest spray share, and what is under a
+//     surface in the last frame.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sim/bodies.h"
+#include "sim/particle_io.h"
+
+namespace fs = std::filesystem;
+using namespace mf;
+
+namespace {
+
+struct PhaseFrame {
+  std::set<int64_t> risenIds;                 // particles of risen bodies
+  std::vector<std::vector<int64_t>> risen;    // each risen body's ids
+  std::vector<std::vector<int64_t>> under;    // each under-surface body (8+) 's ids
+  std::set<int64_t> largestIds, underIds;
+};
+
+struct PhaseTotals {
+  int risenEvents = 0, returns = 0, bursts = 0;
+  size_t mostRisen = 0, mostUnder = 0, lastUnderParticles = 0, lastUnderBodies = 0;
+  double worstSpray = 0, worstSprayTime = 0;
+};
+
+bool underSurface(const FluidBody& b, const ParticleFrame& fr, Real across) {
+  const Real a2 = across * across;
+  for (size_t k = 0; k < fr.size(); ++k) {
+    if (fr.phase[k] == b.phase || fr.position[k].y <= b.upper.y) continue;
+    const Real dx = fr.position[k].x - b.centroid.x, dz = fr.position[k].z - b.centroid.z;
+    if (dx * dx + dz * dz <= a2) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    fmt::print(stderr, "usage: body_stats DIR [mid=Y] [link=1.5]\n");
+    return 2;
+  }
+  const fs::path dir = argv[1];
+  double mid = std::nan(""), link = 1.5;
+  for (int i = 2; i < argc; ++i) {
+    if (std::strncmp(argv[i], "mid=", 4) == 0) mid = std::atof(argv[i] + 4);
+    else if (std::strncmp(argv[i], "link=", 5) == 0) link = std::atof(argv[i] + 5);
+    else {
+      fmt::print(stderr, "body_stats: unknown argument '{}' (mid=Y, link=SPACINGS)\n", argv[i]);
+      return 2;
+    }
+  }
+  std::map<int32_t, PhaseFrame> before;
+  std::map<int32_t, PhaseTotals> totals;
+  std::vector<std::string> names;
+  int frames = 0;
+  try {
+    for (int f = 0;; ++f) {
+      const fs::path file = dir / "particles" / fmt::format("particles.{:04d}.vdb", f);
+      if (!fs::exists(file)) {
+        if (f == 0) throw std::runtime_error(file.string() + ": no such particle file (is DIR a run folder with a sim stage?)");
+        break;
+      }
+      const ParticleFrame fr = readParticleFrame(file.string());
+      names = fr.info.phaseNames;
+      const Real s = Real(fr.info.particleSpacing);
+      if (std::isnan(mid)) {
+        Real lo = 1e30, hi = -1e30;
+        for (const Vec3& x : fr.position) lo = std::min(lo, x.y), hi = std::max(hi, x.y);
+        mid = 0.5 * (lo + hi);
+        fmt::print("mid = {:.4f} m (the middle of frame {}'s particle heights; set mid=Y)\n", mid, f);
+      }
+      const FluidBodies fb = findBodies(fr.position.data(), fr.phase.data(), fr.size(), link * s);
+      std::map<int32_t, size_t> count;
+      for (int32_t p : fr.phase) ++count[p];
+      std::map<int32_t, PhaseFrame> now;
+      std::string line = fmt::format("frame {:4d} t {:7.3f}", f, fr.info.time);
+      for (const auto& [p, n] : count) {
+        PhaseFrame& pf = now[p];
+        size_t bodies = 0, eight = 0, spray = 0, roundN = 0;
+        double round = 0;
+        const FluidBody* largest = nullptr;
+        for (const FluidBody& b : fb.bodies) {
+          if (b.phase != p) continue;
+          if (!largest) largest = &b;
+          ++bodies;
+          eight += b.size() >= 8;
+          if (b.size() < 10) spray += b.size();
+          if (b.size() >= 20 && b.size() <= 200) round += b.roundness, ++roundN;
+          std::vector<int64_t> ids;
+          for (uint32_t i : b.members) ids.push_back(fr.id[i]);
+          const double share = double(b.size()) / double(n);
+          if (&b != largest && share >= 0.02 && share <= 0.5 && b.centroid.y > mid) {
+            pf.risenIds.insert(ids.begin(), ids.end());
+            pf.risen.push_back(ids);
+          }
+          if (b.size() >= 8 && underSurface(b, fr, 2 * s)) {
+            pf.underIds.insert(ids.begin(), ids.end());
+            pf.under.push_back(ids);
+          }
+          if (&b == largest) pf.largestIds.insert(ids.begin(), ids.end());
+        }
+        PhaseTotals& t = totals[p];
+        const double sprayShare = double(spray) / double(n);
+        if (sprayShare > t.worstSpray) t.worstSpray = sprayShare, t.worstSprayTime = fr.info.time;
+        t.mostRisen = std::max(t.mostRisen, pf.risen.size());
+        t.mostUnder = std::max(t.mostUnder, pf.under.size());
+        t.lastUnderBodies = pf.under.size();
+        t.lastUnderParticles = pf.underIds.size();
+        auto prev = before.find(p);
+        for (const auto& ids : pf.risen) {
+          bool seen = false;
+          if (prev != before.end())
+            for (int64_t id : ids) seen |= prev->second.risenIds.count(id) > 0;
+          t.risenEvents += !seen;
+        }
+        if (prev != before.end()) {
+          for (const auto& ids : prev->second.risen) {
+            size_t inPool = 0;
+            for (int64_t id : ids) inPool += pf.largestIds.count(id);
+            t.returns += 2 * inPool > ids.size();
+          }
+          for (const auto& ids : prev->second.under) {
+            bool stillUnder = false;
+            for (int64_t id : ids) stillUnder |= pf.underIds.count(id) > 0;
+            t.bursts += !stillUnder;
+          }
+        }
+        line += fmt::format(" | {} {} in {} bodies, largest {}, 8+ {}, spray {:.1f} %, risen {}, under {}", names.at(size_t(p)), n,
+                            bodies, largest ? largest->size() : 0, eight, 100 * sprayShare, pf.risen.size(), pf.under.size());
+        if (roundN) line += fmt::format(", round {:.3f} ({} bodies of 20-200)", round / double(roundN), roundN);
+      }
+      fmt::print("{}\n", line);
+      before = std::move(now);
+      ++frames;
+    }
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "body_stats: {}\n", e.what());
+    return 1;
+  }
+  fmt::print("over {} frames (link {} spacings, mid {:.4f} m):\n", frames, link, mid);
+  for (const auto& [p, t] : totals)
+    fmt::print("  {}: risen events {}, returns {}, bursts {}, at once: risen {} under {}; spray at most {:.2f} % (t {:.2f} s); "
+               "last frame under a surface: {} bodies, {} particles\n",
+               names.at(size_t(p)), t.risenEvents, t.returns, t.bursts, t.mostRisen, t.mostUnder, 100 * t.worstSpray,
+               t.worstSprayTime, t.lastUnderBodies, t.lastUnderParticles);
+  return 0;
+}
