@@ -134,7 +134,7 @@ int exportBlender(const BlenderExportOptions& opt) {
   const std::string manifest = fmt::format(
       "{{\"format\": \"multifluid blender manifest 1\",\n"
       " \"scene\": {}, \"run_folder\": {}, \"up_axis\": \"Y\",\n"
-      " \"fps\": {}, \"frame_start\": {}, \"frame_end\": {}, \"surface_first_file\": {},\n"
+      " \"fps\": {}, \"frame_start\": {}, \"frame_end\": {}, \"surface_first_file\": {}, \"voxel_size\": {},\n"
       " \"camera\": {{\"position\": {}, \"look_at\": {}, \"fov_vertical_degrees\": {}, \"framing\": {}}},\n"
       " \"image\": {{\"width\": {}, \"height\": {}, \"samples\": {}, \"max_depth\": {}}},\n"
       " \"light\": {{\"position\": {}, \"radius\": {}, \"emission\": {}}},\n"
@@ -144,7 +144,7 @@ int exportBlender(const BlenderExportOptions& opt) {
       " \"fluids\": [{}],\n"
       " \"containers\": [{}]}}\n",
       str(scene.name), str(dir.string()), num(scene.frameRate), first, last, str(surfaceFile(first).string()),
-      vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov), str(rs.cameraFraming), rs.width, rs.height, rs.samples, rs.maxDepth,
+      num(scene.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov), str(rs.cameraFraming), rs.width, rs.height, rs.samples, rs.maxDepth,
       vec(rs.lightPosition), num(rs.lightRadius), vec(rs.lightEmission), vec(rs.skyZenith), vec(rs.skyHorizon), vec(rs.skyGround),
       rs.floor ? "true" : "false", num(rs.floorHeight), num(rs.checkerSize), str(opt.meshes), fluids, containers);
   const fs::path manifestFile = out.string() + ".json";

@@ -85,6 +85,19 @@ for f in ex["fluids"]:
             verts[frame] = len(o.evaluated_get(deps).data.vertices)
             check(verts[frame] > 100, "fluid %s meshed at frame %d: %d vertices" % (f["name"], frame, verts[frame]))
         check(verts[scene.frame_start] != verts[scene.frame_end], "fluid %s changes over the sequence" % f["name"])
+        # At the last frame the mesh lies where the project's own mesher puts it (the run's PLY).
+        me = o.evaluated_get(deps).data
+        got = [o.matrix_world @ v.co for v in me.vertices]
+        bpy.ops.import_mesh.ply(filepath=f["reference_ply"])
+        ref_obj = bpy.context.selected_objects[0]
+        ref_obj.parent = o.parent
+        bpy.context.view_layer.update()
+        ref = [ref_obj.matrix_world @ v.co for v in ref_obj.data.vertices]
+        box = lambda pts: [min(p[i] for p in pts) for i in range(3)] + [max(p[i] for p in pts) for i in range(3)]
+        check(len(got) == len(ref) and close(box(got), box(ref), 1e-5),
+              "fluid %s at frame %d: %d vertices in %s, the run's PLY mesh %d in %s" % (f["name"], scene.frame_end, len(got),
+              [round(x, 5) for x in box(got)], len(ref), [round(x, 5) for x in box(ref)]))
+        bpy.data.objects.remove(ref_obj)
         scene.frame_set(scene.frame_start)
         fluid_objects.append(o)
     else:
@@ -128,6 +141,7 @@ def render(path):
 
 with_fluid = render(png)
 for o in fluid_objects:
+    o.animation_data_clear()  # PLY frames: their visibility is keyframed
     o.hide_render = True
 without = render(png.replace(".png", "_nofluid.png"))
 changed = sum(1 for k in range(0, len(with_fluid), 4) if max(abs(with_fluid[k + c] - without[k + c]) for c in range(3)) > 0.05)

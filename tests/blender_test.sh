@@ -7,8 +7,8 @@
 set -euo pipefail
 bin=$1
 src=$2
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
+work=$(mktemp -d); echo "work folder: $work"
+trap '[ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT  # KEEP=1: keep it, to look at the .blend and renders
 fail() { echo "FAIL: $*" >&2; exit 1; }
 command -v blender > /dev/null ||
   fail "blender is not installed (this test needs it): run scripts/setup.sh --with-blender, or apt-get install blender"
@@ -35,7 +35,7 @@ ls "$work/run"/*.blend > /dev/null 2>&1 && fail "a failed export left a .blend"
 "$bin" run "${args[@]}" --stages surface --out "$work/run" 2> "$work/surface.log" || fail "surface failed: $(cat "$work/surface.log")"
 # The camera the renderer used (3 significant digits: hence camera_tolerance below), from its message: "... framing the solids [lo]-[hi] from (x, y, z)".
 framing=$(grep -o 'framing the solids.*' "$work/render.log") || fail "the renderer printed no framing: $(cat "$work/render.log")"
-read -r -a nums <<< "$(echo "$framing" | tr -c '0-9.e+-' ' ')"
+read -r -a nums <<< "$(echo "$framing" | grep -oE -- '-?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?' | tr '\n' ' ')"
 [ "${#nums[@]}" -eq 9 ] || fail "cannot read the framing message: $framing"
 
 expect() {  # $1 = vdb|ply: the scene's values, stated here (water_oil.toml and the --set above)
@@ -44,7 +44,8 @@ expect() {  # $1 = vdb|ply: the scene's values, stated here (water_oil.toml and 
  "camera_position": [${nums[6]}, ${nums[7]}, ${nums[8]}],
  "look_at": [$(python3 -c "n=[float(x) for x in '${nums[*]}'.split()]; print(', '.join(str((n[k]+n[k+3])/2) for k in range(3)))")],
  "light_position": [0.4, 0.6, 0.5], "light_radius": 0.05,
- "fluids": [{"name": "water", "ior": 1.33, "absorption": [4.0, 1.2, 0.8]}, {"name": "oil", "ior": 1.5, "absorption": [1.0, 3.0, 25.0]}],
+ "fluids": [{"name": "water", "ior": 1.33, "absorption": [4.0, 1.2, 0.8], "reference_ply": "$work/run/mesh/water.0003.ply"},
+   {"name": "oil", "ior": 1.5, "absorption": [1.0, 3.0, 25.0], "reference_ply": "$work/run/mesh/oil.0003.ply"}],
  "camera_tolerance": 0.005, "containers": ["tank"], "min_changed_pixels": 20}
 EOF
 }

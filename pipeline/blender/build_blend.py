@@ -116,6 +116,11 @@ def fluid_from_vdb(f, man, coll, root):
     vobj = link(bpy.data.objects.new(f["name"] + "_levelset", vol), coll, root)
     vobj.hide_render = True
     vobj.display_type = "WIRE"
+    # Blender 3.4's Volume to Mesh moves its vertices by half a voxel (+x, +y, +z of the grid) from
+    # OpenVDB's zero crossing; moving the volume back puts the mesh where the renderer's is
+    # (measured: then it matches the run's PLY mesh of the same frame).
+    h = 0.5 * man["voxel_size"]
+    vobj.location = (-h, -h, -h)
     me = bpy.data.meshes.new(f["name"])
     obj = link(bpy.data.objects.new(f["name"], me), coll, root)
     mod = obj.modifiers.new("Volume to Mesh", "VOLUME_TO_MESH")
