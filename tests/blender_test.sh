@@ -49,6 +49,23 @@ expect() {  # $1 = vdb|ply: the scene's values, stated here (water_oil.toml and 
  "camera_tolerance": 0.005, "containers": ["tank"], "min_changed_pixels": 20}
 EOF
 }
+# A Blender that hangs is stopped at --timeout; one that fails, or exits 0 without writing the
+# file, leaves no .blend (stand-ins for blender on PATH).
+mkdir -p "$work/fake"
+printf '#!/bin/sh\nexec sleep 60\n' > "$work/fake/blender"
+chmod +x "$work/fake/blender"
+set +e
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" --timeout 1 > /dev/null 2> "$work/e4.log"; s4=$?
+printf '#!/bin/sh\necho "some python error" >&2\nexit 1\n' > "$work/fake/blender"
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" > /dev/null 2> "$work/e5.log"; s5=$?
+printf '#!/bin/sh\nexit 0\n' > "$work/fake/blender"
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" > /dev/null 2> "$work/e6.log"; s6=$?
+set -e
+[ "$s4" -ne 0 ] && grep -q "time limit of 1 s" "$work/e4.log" || fail "a hanging blender: status $s4, $(cat "$work/e4.log")"
+[ "$s5" -ne 0 ] && grep -q "some python error" "$work/e5.log" || fail "a failing blender: status $s5, $(cat "$work/e5.log")"
+[ "$s6" -ne 0 ] && grep -q "wrote no file" "$work/e6.log" || fail "a blender that wrote nothing: status $s6, $(cat "$work/e6.log")"
+ls "$work/run" | grep -q '\.blend$\|tmp' && fail "a failed export left a file: $(ls "$work/run")"
+
 for meshes in vdb ply; do
   t0=$(date +%s.%N)
   "$bin" export blender "$work/run" --meshes "$meshes" --out "$work/out_$meshes/water_oil.blend" 2> "$work/export_$meshes.log" ||
