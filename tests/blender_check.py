@@ -37,6 +37,10 @@ check(scene.frame_start == ex["frame_start"] and scene.frame_end == ex["frame_en
 fps = scene.render.fps / scene.render.fps_base
 check(abs(fps - ex["fps"]) < 1e-6, "frame rate %.6f (expected %g)" % (fps, ex["fps"]))
 check(scene.render.engine == "CYCLES", "render engine " + scene.render.engine)
+check((scene.render.resolution_x, scene.render.resolution_y, scene.cycles.samples) == tuple(ex["image"]),
+      "image %dx%d, %d samples (expected %s)" % (scene.render.resolution_x, scene.render.resolution_y, scene.cycles.samples, ex["image"]))
+rel = [v.filepath for v in bpy.data.volumes if not v.filepath.startswith("//")]
+check(not rel, "volume paths relative to the .blend (%s)" % rel)
 
 cam = scene.camera
 check(cam is not None, "a scene camera")

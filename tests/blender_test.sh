@@ -40,7 +40,7 @@ read -r -a nums <<< "$(echo "$framing" | grep -oE -- '-?[0-9]+(\.[0-9]+)?(e[-+]?
 
 expect() {  # $1 = vdb|ply: the scene's values, stated here (water_oil.toml and the --set above)
   cat << EOF
-{"frame_start": 0, "frame_end": 3, "fps": 25, "fov": 40, "meshes": "$1",
+{"frame_start": 0, "frame_end": 3, "fps": 25, "fov": 40, "meshes": "$1", "image": [32, 24, 1],
  "camera_position": [${nums[6]}, ${nums[7]}, ${nums[8]}],
  "look_at": [$(python3 -c "n=[float(x) for x in '${nums[*]}'.split()]; print(', '.join(str((n[k]+n[k+3])/2) for k in range(3)))")],
  "light_position": [0.4, 0.6, 0.5], "light_radius": 0.05,
