@@ -67,14 +67,17 @@ set -e
 ls "$work/run" | grep -q '\.blend$\|tmp' && fail "a failed export left a file: $(ls "$work/run")"
 
 for meshes in vdb ply; do
+  # Hostile characters in the output's folder: they reach Blender as one argument and as JSON.
+  out="$work/out $meshes 'q' \"\$(touch pwned)\""
   t0=$(date +%s.%N)
-  "$bin" export blender "$work/run" --meshes "$meshes" --out "$work/out_$meshes/water_oil.blend" 2> "$work/export_$meshes.log" ||
+  "$bin" export blender "$work/run" --meshes "$meshes" --out "$out/water_oil.blend" 2> "$work/export_$meshes.log" ||
     fail "export --meshes $meshes failed: $(cat "$work/export_$meshes.log")"
   t1=$(date +%s.%N)
-  [ -s "$work/out_$meshes/water_oil.blend" ] || fail "no .blend written"
-  ls "$work/out_$meshes" | grep -q tmp && fail "a temporary was left: $(ls "$work/out_$meshes")"
+  [ -s "$out/water_oil.blend" ] || fail "no .blend written"
+  ls "$out" | grep -q tmp && fail "a temporary was left: $(ls "$out")"
+  [ -e pwned ] || [ -e "$work/pwned" ] && fail "a file name was run as a command"
   expect "$meshes" > "$work/expect_$meshes.json"
-  blender -b "$work/out_$meshes/water_oil.blend" --factory-startup --python-exit-code 1 -P "$src/tests/blender_check.py" -- \
+  blender -b "$out/water_oil.blend" --factory-startup --python-exit-code 1 -P "$src/tests/blender_check.py" -- \
     "$work/expect_$meshes.json" "$work/render_$meshes.png" > "$work/check_$meshes.log" 2>&1 ||
     fail "the $meshes .blend fails its checks:
 $(grep -E '^(FAIL|ok)|Error|error' "$work/check_$meshes.log")"
@@ -92,6 +95,11 @@ print("points: %d vertices, %d edges, %d faces; attributes: %s" % (len(me.vertic
       " ".join(sorted(a.name for a in me.attributes))))
 if len(me.vertices) != int(n) or len(me.polygons) != 0:
     raise RuntimeError("expected %s vertices and no faces" % n)
+import struct  # the first vertex where the file has it: float x y z right after the header
+data = open(path, "rb").read()
+x = struct.unpack_from("<3f", data, data.index(b"end_header\n") + 11)
+if (me.vertices[0].co - __import__("mathutils").Vector(x)).length > 1e-7:
+    raise RuntimeError("vertex 0 at %s, the file has %s" % (tuple(me.vertices[0].co), x))
 ' -- "$ply" "$n" > "$work/points.log" 2>&1 || fail "Blender did not import the PLY point cloud: $(tail -5 "$work/points.log")"
 grep '^points:' "$work/points.log"
 echo "PASS"
