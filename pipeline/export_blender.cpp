@@ -110,8 +110,10 @@ int exportBlender(const BlenderExportOptions& opt) {
   auto meshFile = [&](const std::string& phase, int f) { return dir / "mesh" / fmt::format("{}.{:04d}.ply", phase, f); };
   if (opt.meshes == "ply") {
     if (!scene.surfacing.meshPly)
-      throw std::runtime_error("export --meshes ply: the run wrote no PLY meshes (surfacing.meshes has no \"ply\"); export the "
-                               "level sets (--meshes vdb) or surface again with --set 'surfacing.meshes=[\"ply\"]'");
+      throw std::runtime_error(fmt::format("export --meshes ply: the run wrote no PLY meshes (surfacing.meshes has no \"ply\"); "
+                                           "export the level sets (--meshes vdb), or delete {}/records/surface.* and run: multifluid "
+                                           "surface {}/scene.toml --out {} --set 'surfacing.meshes=[\"ply\"]'",
+                                           opt.runDir, opt.runDir, opt.runDir));
   }
 
   const fs::path out = opt.out.empty() ? dir / (scene.name + ".blend") : fs::absolute(opt.out).lexically_normal();
