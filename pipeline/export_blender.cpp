@@ -74,7 +74,8 @@ std::string blenderScriptPath() {
   const fs::path source = MULTIFLUID_BLENDER_SCRIPT;
   std::error_code ec;
   if (!source.empty() && fs::is_regular_file(source, ec)) return source.string();
-  throw std::runtime_error("export: the Blender script " + source.string() + " (in the source tree this program was built from) is missing");
+  throw std::runtime_error("export: the Blender script " + source.string() +
+                           " (in the source tree this program was built from) is missing");
 }
 
 int exportBlender(const BlenderExportOptions& opt) {
@@ -146,7 +147,8 @@ int exportBlender(const BlenderExportOptions& opt) {
       " \"fluids\": [{}],\n"
       " \"containers\": [{}]}}\n",
       str(scene.name), str(dir.string()), num(scene.frameRate), first, last, str(surfaceFile(first).string()),
-      num(scene.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov), str(rs.cameraFraming), rs.width, rs.height, rs.samples, rs.maxDepth,
+      num(scene.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
+      str(rs.cameraFraming), rs.width, rs.height, rs.samples, rs.maxDepth,
       vec(rs.lightPosition), num(rs.lightRadius), vec(rs.lightEmission), vec(rs.skyZenith), vec(rs.skyHorizon), vec(rs.skyGround),
       rs.floor ? "true" : "false", num(rs.floorHeight), num(rs.checkerSize), str(opt.meshes), fluids, containers);
   const fs::path manifestFile = out.string() + ".json";

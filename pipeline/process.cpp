@@ -67,7 +67,8 @@ int waitFor(pid_t pid, const std::string& program, double seconds) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  if (termSent) throw std::runtime_error(program + " was stopped after running past its time limit of " + std::to_string(int(seconds)) + " s");
+  if (termSent)
+    throw std::runtime_error(program + " was stopped after running past its time limit of " + std::to_string(int(seconds)) + " s");
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return 255;
