@@ -89,6 +89,8 @@ for f in ex["fluids"]:
             verts[frame] = len(o.evaluated_get(deps).data.vertices)
             check(verts[frame] > 100, "fluid %s meshed at frame %d: %d vertices" % (f["name"], frame, verts[frame]))
         check(verts[scene.frame_start] != verts[scene.frame_end], "fluid %s changes over the sequence" % f["name"])
+        mats = [m.name for m in o.evaluated_get(deps).data.materials]
+        check(mats == [f["name"]], "the meshed fluid %s carries its material (%s)" % (f["name"], mats))
         # At the last frame the mesh lies where the project's own mesher puts it (the run's PLY).
         me = o.evaluated_get(deps).data
         got = [o.matrix_world @ v.co for v in me.vertices]
