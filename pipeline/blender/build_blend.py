@@ -194,6 +194,8 @@ def camera(man, coll, root):
     pos, target = Vector(c["position"]), Vector(c["look_at"])
     forward = (target - pos).normalized()
     right = forward.cross(Vector((0, 1, 0))).normalized()
+    if right.length == 0:  # looking straight up or down: the renderer's choice of image x
+        right = Vector((1, 0, 0))
     up = right.cross(forward)
     cam = bpy.data.cameras.new("camera")
     cam.sensor_fit = "VERTICAL"
