@@ -343,7 +343,8 @@ int main(int argc, char** argv) {
     args = {"run", kDefaultScene};
     opt.sets = kDefaultDemoSettings;
   }
-  const std::vector<std::string> commands = {"run", "sim", "surface", "render", "preview", "encode", "diff", "validate", "scenes", "farm", "export"};
+  const std::vector<std::string> commands = {"run",  "sim",      "surface", "render", "preview", "encode",
+                                             "diff", "validate", "scenes",  "farm",   "export"};
   const bool help = args[0] == "-h" || args[0] == "--help";
   if (!help && std::find(commands.begin(), commands.end(), args[0]) == commands.end()) args.insert(args.begin(), "run");
 
