@@ -33,7 +33,8 @@ ls "$work/run"/*.blend > /dev/null 2>&1 && fail "a failed export left a .blend"
 
 "$bin" run "${args[@]}" --stages surface,render --frames 0 --out "$work/run" 2> "$work/render.log" || fail "render failed: $(cat "$work/render.log")"
 "$bin" run "${args[@]}" --stages surface --out "$work/run" 2> "$work/surface.log" || fail "surface failed: $(cat "$work/surface.log")"
-# The camera the renderer used (3 significant digits: hence camera_tolerance below), from its message: "... framing the solids [lo]-[hi] from (x, y, z)".
+# The camera the renderer used, from its message "... framing the solids [lo]-[hi] from (x, y, z)"
+# (3 significant digits: hence camera_tolerance below); it looks at the box's centre.
 framing=$(grep -o 'framing the solids.*' "$work/render.log") || fail "the renderer printed no framing: $(cat "$work/render.log")"
 read -r -a nums <<< "$(echo "$framing" | grep -oE -- '-?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?' | tr '\n' ' ')"
 [ "${#nums[@]}" -eq 9 ] || fail "cannot read the framing message: $framing"
