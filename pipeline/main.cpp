@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/export_blender.h"
 #include "pipeline/farm.h"
 #include "pipeline/report.h"
 #include "pipeline/stages.h"
@@ -55,6 +56,8 @@ struct Options {
   double threshold = 0.016, failPercent = 1;
   std::string diffFormat = "exr";
   bool onlyCommon = false;
+  // export
+  mf::pipeline::BlenderExportOptions blender;
 };
 
 /// Only decimal digits, at most `maxDigits` of them (so that stoi cannot overflow).
@@ -340,7 +343,8 @@ int main(int argc, char** argv) {
     args = {"run", kDefaultScene};
     opt.sets = kDefaultDemoSettings;
   }
-  const std::vector<std::string> commands = {"run", "sim", "surface", "render", "preview", "encode", "diff", "validate", "scenes", "farm"};
+  const std::vector<std::string> commands = {"run",  "sim",      "surface", "render", "preview", "encode",
+                                             "diff", "validate", "scenes",  "farm",   "export"};
   const bool help = args[0] == "-h" || args[0] == "--help";
   if (!help && std::find(commands.begin(), commands.end(), args[0]) == commands.end()) args.insert(args.begin(), "run");
 
@@ -377,6 +381,15 @@ int main(int argc, char** argv) {
   diff->callback([&opt] { opt.command = "diff"; });
   app.add_subcommand("scenes", "list the embedded scenes")->callback([&opt] { opt.command = "scenes"; });
   addFarmCommands(app, opt);
+  CLI::App* exportCmd = app.add_subcommand("export", "hand a run to a DCC tool: export blender DIR");
+  exportCmd->require_subcommand(1);
+  CLI::App* blender = exportCmd->add_subcommand("blender", "build a .blend of a run folder with Blender in background mode");
+  blender->add_option("DIR", opt.blender.runDir, "the run folder (it needs finished surface frames)")->required();
+  blender->add_option("--out", opt.blender.out, "the .blend to write (default DIR/<scene>.blend)");
+  blender->add_option("--meshes", opt.blender.meshes, "vdb: the level sets with Volume to Mesh (default); ply: the run's PLY meshes")
+      ->check(CLI::IsMember({"vdb", "ply"}));
+  blender->add_option("--timeout", opt.blender.timeoutSeconds, "seconds before Blender is stopped (default 1800)")->check(CLI::Range(1.0, 1e6));
+  blender->callback([&opt] { opt.command = "export blender"; });
 
   std::vector<const char*> cargv = {"multifluid"};
   for (const auto& a : args) cargv.push_back(a.c_str());
@@ -399,6 +412,7 @@ int main(int argc, char** argv) {
     if (opt.command == "farm submit") return farmSubmitCommand(opt);
     if (opt.command == "farm status") return mf::pipeline::farmStatus(opt.farmDir);
     if (opt.command == "farm cancel") return mf::pipeline::farmCancel(opt.farmDir);
+    if (opt.command == "export blender") return mf::pipeline::exportBlender(opt.blender);
     return runStagesCommand(opt);
   } catch (const UsageError& e) {
     fmt::print(stderr, "multifluid: {}\n", e.what());

@@ -8,10 +8,13 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 
 extern char** environ;
 
@@ -36,6 +39,35 @@ int waitFor(pid_t pid, const std::string& program) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) throw std::runtime_error("waiting for " + program + ": " + std::strerror(errno));
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return 255;
+}
+
+/// waitFor with a limit: a program still running after `seconds` is sent SIGTERM, then SIGKILL
+/// if it has not exited 5 s later, reaped, and reported as an error (a hung child never hangs us).
+int waitFor(pid_t pid, const std::string& program, double seconds) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+  int status = 0;
+  bool termSent = false;
+  for (;;) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (r < 0 && errno != EINTR) throw std::runtime_error("waiting for " + program + ": " + std::strerror(errno));
+    if (!termSent && elapsed() > seconds) {
+      ::kill(pid, SIGTERM);
+      termSent = true;
+    } else if (termSent && elapsed() > seconds + 5) {
+      ::kill(pid, SIGKILL);
+      waitFor(pid, program);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (termSent)
+    throw std::runtime_error(program + " was stopped after running past its time limit of " + std::to_string(int(seconds)) + " s");
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return 255;
@@ -73,7 +105,7 @@ int runProgram(const std::vector<std::string>& argv, const SpawnOptions& options
   pid_t pid = 0;
   rc = posix_spawn(&pid, program.c_str(), &fa.actions, nullptr, args.data(), environ);
   if (rc != 0) throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
-  return waitFor(pid, program);
+  return options.timeoutSeconds > 0 ? waitFor(pid, program, options.timeoutSeconds) : waitFor(pid, program);
 }
 
 ProgramOutput captureProgram(const std::vector<std::string>& argv) {

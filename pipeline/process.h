@@ -14,11 +14,12 @@ struct SpawnOptions {
   std::string workingDirectory;  // "" = the current one
   std::string stdoutFile;        // "" = inherited; else truncated and written
   std::string stderrFile;        // "" = inherited; else truncated and written
+  double timeoutSeconds = 0;     // > 0: past it the program gets SIGTERM (SIGKILL 5 s later), and runProgram throws
 };
 
 /// Runs argv[0] (looked up on PATH) with the arguments as given, standard input from /dev/null,
 /// and waits for it. Returns its exit status; a program killed by signal N returns 128 + N.
-/// Throws std::runtime_error if it cannot be started.
+/// Throws std::runtime_error if it cannot be started, or if it ran past options.timeoutSeconds.
 int runProgram(const std::vector<std::string>& argv, const SpawnOptions& options = {});
 
 struct ProgramOutput {

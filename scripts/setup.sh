@@ -3,12 +3,16 @@
 # Run as root. Does nothing (and needs no network) when everything is already there.
 #   --farm  also Slurm and munge, for `multifluid farm` and its test (a local single-node Slurm,
 #           scripts/slurm_local.sh); users without a farm do not need them.
+#   --with-blender  also Blender (Debian 12: 3.4), for `multifluid export blender`
+#           and its test.
 set -euo pipefail
 farm=0
+blender=0
 for a in "$@"; do
   case "$a" in
     --farm) farm=1 ;;
-    *) echo "setup: unknown option '$a' (options: --farm)" >&2; exit 2 ;;
+    --with-blender) blender=1 ;;
+    *) echo "setup: unknown option '$a' (options: --farm, --with-blender)" >&2; exit 2 ;;
   esac
 done
 packages=(
@@ -20,6 +24,7 @@ packages=(
   libcli11-dev libxxhash-dev python3 clang libclang-rt-14-dev
 )
 [ "$farm" -eq 0 ] || packages+=(slurmctld slurmd slurm-client munge)
+[ "$blender" -eq 0 ] || packages+=(blender)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,0 +1,328 @@
+# Builds a .blend from a multifluid run: run by `multifluid export blender` as
+#   blender -b --factory-startup --python-exit-code 1 -P build_blend.py -- MANIFEST.json OUT.blend
+# The manifest (written by pipeline/export_blender.cpp) has the scene as run in its own
+# coordinates (y up, metres); everything is parented to one empty turned +90 degrees about x, so
+# that y up becomes Blender's z up and the files (VDB, PLY) load unchanged. Tested with Blender
+# 3.4 (Debian 12). Any error raises, and Blender then exits 1 without writing OUT.
+import json
+import math
+import os
+import sys
+
+import bpy
+from mathutils import Matrix, Vector
+
+
+def args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    if len(argv) != 2:
+        raise RuntimeError("usage: blender -b -P build_blend.py -- MANIFEST.json OUT.blend")
+    return [os.path.abspath(a) for a in argv]
+
+
+def node_tree(mat):
+    mat.use_nodes = True
+    nodes = mat.node_tree.nodes
+    for n in list(nodes):
+        nodes.remove(n)
+    out = nodes.new("ShaderNodeOutputMaterial")
+    return mat.node_tree, out
+
+
+def add_absorption(tree, out, sigma, extra=None):
+    """Beer-Lambert sigma_a per RGB channel (1/m). Cycles' Volume Absorption absorbs
+    density * (1 - colour) per unit length, so density = max(sigma), colour = 1 - sigma / density."""
+    density = max(sigma)
+    shaders = []
+    if density > 0:
+        a = tree.nodes.new("ShaderNodeVolumeAbsorption")
+        a.inputs["Density"].default_value = density
+        a.inputs["Color"].default_value = [1 - s / density for s in sigma] + [1.0]
+        shaders.append(a)
+    if extra is not None:
+        shaders.append(extra)
+    if not shaders:
+        return
+    node = shaders[0]
+    for s in shaders[1:]:
+        add = tree.nodes.new("ShaderNodeAddShader")
+        tree.links.new(node.outputs[0], add.inputs[0])
+        tree.links.new(s.outputs[0], add.inputs[1])
+        node = add
+    tree.links.new(node.outputs[0], out.inputs["Volume"])
+
+
+def make_material(name, m):
+    """The renderer's material kinds (sim/scene.h MaterialSpec) in Cycles nodes."""
+    mat = bpy.data.materials.new(name)
+    tree, out = node_tree(mat)
+    mat["multifluid_kind"] = m["kind"]
+    if m["kind"] in ("dielectric", "medium"):
+        p = tree.nodes.new("ShaderNodeBsdfPrincipled")
+        p.inputs["Base Color"].default_value = (1, 1, 1, 1)
+        p.inputs["Transmission"].default_value = 1.0
+        p.inputs["Roughness"].default_value = 0.0
+        p.inputs["IOR"].default_value = m["ior"]
+        tree.links.new(p.outputs[0], out.inputs["Surface"])
+        extra = None
+        if m["kind"] == "medium":
+            # Isotropic scattering sigma_s, and emission as radiance per metre.
+            scatter = tree.nodes.new("ShaderNodeVolumeScatter")
+            scatter.inputs["Density"].default_value = m["scattering"]
+            scatter.inputs["Color"].default_value = (1, 1, 1, 1)
+            extra = scatter
+            e = m["emission"]
+            if max(e) > 0:
+                em = tree.nodes.new("ShaderNodeEmission")
+                em.inputs["Color"].default_value = [c / max(e) for c in e] + [1.0]
+                em.inputs["Strength"].default_value = max(e)
+                add = tree.nodes.new("ShaderNodeAddShader")
+                tree.links.new(scatter.outputs[0], add.inputs[0])
+                tree.links.new(em.outputs[0], add.inputs[1])
+                extra = add
+        add_absorption(tree, out, m["absorption"], extra)
+    elif m["kind"] == "diffuse":
+        d = tree.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = list(m["colour"]) + [1.0]
+        tree.links.new(d.outputs[0], out.inputs["Surface"])
+    else:  # emitter
+        e = m["emission"]
+        em = tree.nodes.new("ShaderNodeEmission")
+        peak = max(max(e), 1e-12)
+        em.inputs["Color"].default_value = [c / peak for c in e] + [1.0]
+        em.inputs["Strength"].default_value = max(e)
+        tree.links.new(em.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def link(obj, coll, root):
+    coll.objects.link(obj)
+    obj.parent = root
+    return obj
+
+
+def fluid_from_vdb(f, man, coll, root):
+    """The level-set sequence as a volume object (hidden) and a mesh object whose Volume to Mesh
+    modifier meshes this fluid's grid at its zero crossing."""
+    vol = bpy.data.volumes.new(f["name"] + "_levelset")
+    vol.filepath = man["surface_first_file"]
+    n = man["frame_end"] - man["frame_start"] + 1
+    vol.is_sequence = n > 1
+    # The file number read at scene frame F is F - frame_start + 1 + frame_offset.
+    vol.frame_start = man["frame_start"]
+    vol.frame_duration = n
+    vol.frame_offset = man["frame_start"] - 1
+    vol.sequence_mode = "CLIP"
+    vobj = link(bpy.data.objects.new(f["name"] + "_levelset", vol), coll, root)
+    vobj.hide_render = True
+    vobj.display_type = "WIRE"
+    # Blender 3.4's Volume to Mesh moves its vertices by half a voxel (+x, +y, +z of the grid) from
+    # OpenVDB's zero crossing; moving the volume back puts the mesh where the renderer's is
+    # (measured: then it matches the run's PLY mesh of the same frame).
+    h = 0.5 * man["voxel_size"]
+    vobj.location = (-h, -h, -h)
+    me = bpy.data.meshes.new(f["name"])
+    obj = link(bpy.data.objects.new(f["name"], me), coll, root)
+    mod = obj.modifiers.new("Volume to Mesh", "VOLUME_TO_MESH")
+    mod.object = vobj
+    mod.grid_name = f["grid"]
+    mod.threshold = 0.0  # the level set's zero crossing (distances in metres)
+    mod.resolution_mode = "GRID"
+    mod.use_smooth_shade = True
+    return obj
+
+
+def fluid_from_ply(f, man, coll, root):
+    """One imported PLY mesh per frame, each visible on its frame only (keyframed visibility)."""
+    sub = bpy.data.collections.new(f["name"] + "_frames")
+    coll.children.link(sub)
+    objs = []
+    for k, path in enumerate(f["ply_meshes"]):
+        frame = man["frame_start"] + k
+        bpy.ops.import_mesh.ply(filepath=path)
+        obj = bpy.context.selected_objects[0]
+        for c in list(obj.users_collection):
+            c.objects.unlink(obj)
+        sub.objects.link(obj)
+        obj.name = "%s.%04d" % (f["name"], frame)
+        obj.parent = root
+        for fr, hidden in ((frame - 1, True), (frame, False), (frame + 1, True)):
+            obj.hide_render = obj.hide_viewport = hidden
+            obj.keyframe_insert("hide_render", frame=fr)
+            obj.keyframe_insert("hide_viewport", frame=fr)
+        for fc in obj.animation_data.action.fcurves:
+            for kp in fc.keyframe_points:
+                kp.interpolation = "CONSTANT"
+        objs.append(obj)
+    return objs
+
+
+def world(man):
+    """The renderer's sky: horizon to zenith by sqrt(up), ground below the horizon."""
+    w = bpy.data.worlds.new("multifluid_sky")
+    bpy.context.scene.world = w
+    w.use_nodes = True
+    t = w.node_tree
+    for n in list(t.nodes):
+        t.nodes.remove(n)
+    coord = t.nodes.new("ShaderNodeTexCoord")
+    sep = t.nodes.new("ShaderNodeSeparateXYZ")
+    t.links.new(coord.outputs["Generated"], sep.inputs[0])
+    sqrt = t.nodes.new("ShaderNodeMath")
+    sqrt.operation = "SQRT"  # Blender's is 0 below 0
+    t.links.new(sep.outputs["Z"], sqrt.inputs[0])
+    sky = t.nodes.new("ShaderNodeMixRGB")
+    t.links.new(sqrt.outputs[0], sky.inputs["Fac"])
+    sky.inputs["Color1"].default_value = list(man["sky"]["horizon"]) + [1]
+    sky.inputs["Color2"].default_value = list(man["sky"]["zenith"]) + [1]
+    below = t.nodes.new("ShaderNodeMath")
+    below.operation = "LESS_THAN"
+    below.inputs[1].default_value = 0.0
+    t.links.new(sep.outputs["Z"], below.inputs[0])
+    ground = t.nodes.new("ShaderNodeMixRGB")
+    t.links.new(below.outputs[0], ground.inputs["Fac"])
+    t.links.new(sky.outputs[0], ground.inputs["Color1"])
+    ground.inputs["Color2"].default_value = list(man["sky"]["ground"]) + [1]
+    bg = t.nodes.new("ShaderNodeBackground")
+    t.links.new(ground.outputs[0], bg.inputs["Color"])
+    out = t.nodes.new("ShaderNodeOutputWorld")
+    t.links.new(bg.outputs[0], out.inputs["Surface"])
+
+
+def camera(man, coll, root):
+    c = man["camera"]
+    pos, target = Vector(c["position"]), Vector(c["look_at"])
+    forward = (target - pos).normalized()
+    right = forward.cross(Vector((0, 1, 0))).normalized()
+    if right.length == 0:  # looking straight up or down: the renderer's choice of image x
+        right = Vector((1, 0, 0))
+    up = right.cross(forward)
+    cam = bpy.data.cameras.new("camera")
+    cam.sensor_fit = "VERTICAL"
+    cam.angle_y = math.radians(c["fov_vertical_degrees"])
+    cam.clip_start, cam.clip_end = 0.01, 1000.0
+    obj = link(bpy.data.objects.new("camera", cam), coll, root)
+    # Blender's camera looks down its -z with +y up.
+    m = Matrix((right, up, -forward)).transposed().to_4x4()
+    m.translation = pos
+    obj.matrix_basis = m
+    bpy.context.scene.camera = obj
+    if c["framing"]:
+        obj["multifluid_framing"] = c["framing"]
+
+
+def light(man, coll, root):
+    """The renderer's spherical area light of radiance L and radius r as a point light of that
+    radius: Cycles gives a point light of power P the radiance P / (4 pi^2 r^2)."""
+    l = man["light"]
+    if l["radius"] <= 0:
+        return
+    e, r = l["emission"], l["radius"]
+    peak = max(e)
+    lamp = bpy.data.lights.new("light", "POINT")
+    lamp.shadow_soft_size = r
+    lamp.color = [c / peak for c in e] if peak > 0 else (1, 1, 1)
+    lamp.energy = 4 * math.pi ** 2 * r * r * peak
+    obj = link(bpy.data.objects.new("light", lamp), coll, root)
+    obj.location = l["position"]
+
+
+def floor(man, coll, root):
+    f = man["floor"]
+    if not f["enabled"]:
+        return
+    size = 50.0
+    me = bpy.data.meshes.new("floor")
+    h = f["height"]
+    me.from_pydata([(-size, h, -size), (size, h, -size), (size, h, size), (-size, h, size)], [], [(0, 3, 2, 1)])
+    obj = link(bpy.data.objects.new("floor", me), coll, root)
+    mat = bpy.data.materials.new("floor")
+    tree, out = node_tree(mat)
+    d = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    tree.links.new(d.outputs[0], out.inputs["Surface"])
+    if f["checker_size"] > 0:
+        # The renderer's checks of that size (Cycles' checks are 1 / scale wide); in the object's
+        # coordinates, which are the scene's.
+        coord = tree.nodes.new("ShaderNodeTexCoord")
+        chk = tree.nodes.new("ShaderNodeTexChecker")
+        chk.inputs["Scale"].default_value = 1.0 / f["checker_size"]
+        chk.inputs["Color1"].default_value = (0.75, 0.75, 0.75, 1)
+        chk.inputs["Color2"].default_value = (0.15, 0.15, 0.15, 1)
+        tree.links.new(coord.outputs["Object"], chk.inputs["Vector"])
+        tree.links.new(chk.outputs["Color"], d.inputs["Color"])
+    else:
+        d.inputs["Color"].default_value = (0.6, 0.6, 0.6, 1)
+    me.materials.append(mat)
+
+
+def container(c, coll, root):
+    v = c["vertices"]
+    t = c["triangles"]
+    me = bpy.data.meshes.new(c["name"])
+    me.from_pydata([v[i:i + 3] for i in range(0, len(v), 3)], [], [t[i:i + 3] for i in range(0, len(t), 3)])
+    me.validate()
+    me.use_auto_smooth = True
+    me.auto_smooth_angle = math.radians(30)
+    me.polygons.foreach_set("use_smooth", [True] * len(me.polygons))
+    me.materials.append(make_material(c["name"], c["material"]))
+    obj = link(bpy.data.objects.new(c["name"], me), coll, root)
+    obj.hide_render = not c["material"]["visible"]
+    return obj
+
+
+def main():
+    manifest_path, out_path = args()
+    with open(manifest_path) as fh:
+        man = json.load(fh)
+    if man.get("format") != "multifluid blender manifest 1":
+        raise RuntimeError(manifest_path + ": not a multifluid manifest")
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.name = man["scene"]
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = man["image"]["samples"]
+    scene.cycles.max_bounces = man["image"]["max_depth"]
+    scene.cycles.transmission_bounces = man["image"]["max_depth"]
+    scene.cycles.volume_bounces = 4
+    # Debian's Blender is built without OpenImageDenoise, and the default would fail every render.
+    scene.cycles.use_denoising = False
+    scene.cycles.use_preview_denoising = False
+    scene.render.resolution_x = man["image"]["width"]
+    scene.render.resolution_y = man["image"]["height"]
+    scene.render.resolution_percentage = 100
+    # Frame rate as fps / fps_base (Blender keeps an integer fps).
+    rate = man["fps"]
+    scene.render.fps = max(1, round(rate))
+    scene.render.fps_base = scene.render.fps / rate
+    scene.frame_start, scene.frame_end = man["frame_start"], man["frame_end"]
+    scene.frame_current = man["frame_start"]
+    scene.unit_settings.system = "METRIC"
+
+    coll = bpy.data.collections.new("multifluid")
+    scene.collection.children.link(coll)
+    root = bpy.data.objects.new("multifluid_y_up", None)
+    coll.objects.link(root)
+    root.rotation_euler = (math.pi / 2, 0, 0)  # the scene's y up to Blender's z up
+    root["multifluid_run_folder"] = man["run_folder"]
+
+    for f in man["fluids"]:
+        mat = make_material(f["name"], f["material"])
+        if man["meshes"] == "ply":
+            for obj in fluid_from_ply(f, man, coll, root):
+                obj.data.materials.clear()
+                obj.data.materials.append(mat)
+        else:
+            fluid_from_vdb(f, man, coll, root).data.materials.append(mat)
+    for c in man["containers"]:
+        container(c, coll, root)
+    camera(man, coll, root)
+    light(man, coll, root)
+    floor(man, coll, root)
+    world(man)
+
+    scene.frame_set(man["frame_start"])
+    bpy.ops.wm.save_as_mainfile(filepath=out_path, relative_remap=True, compress=False)
+    print("build_blend: wrote", out_path)
+
+
+main()

@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# `multifluid export blender` with the real Blender: a tiny two-fluid run (4 frames, coarse),
+# exported twice (level sets with Volume to Mesh, and the PLY mesh sequence), each .blend opened
+# in Blender and checked against the scene's values by blender_check.py, with a small Cycles
+# render; the PLY point cloud imported in Blender; and the export's errors. Blender is required:
+# CI installs it (scripts/setup.sh --with-blender).
+set -euo pipefail
+bin=$1
+src=$2
+work=$(mktemp -d); echo "work folder: $work"
+trap '[ -n "${KEEP:-}" ] || rm -rf "$work"' EXIT  # KEEP=1: keep it, to look at the .blend and renders
+fail() { echo "FAIL: $*" >&2; exit 1; }
+command -v blender > /dev/null ||
+  fail "blender is not installed (this test needs it): run scripts/setup.sh --with-blender, or apt-get install blender"
+
+# water_oil has no camera keys: the renderer frames the tank, and the export must use that camera.
+args=(water_oil --set solver.particle_spacing=0.015 --set scene.end_time=0.12 --threads 2 --resolution 32x24 --samples 1
+  --set 'render.light_position=[0.4, 0.6, 0.5]' --set render.light_radius=0.05 --set render.material.oil.ior=1.5
+  --set 'surfacing.meshes=["ply"]' --set surfacing.points_ply=true)
+"$bin" run "${args[@]}" --stages sim --out "$work/run" 2> "$work/sim.log" || fail "sim failed: $(cat "$work/sim.log")"
+
+# Errors: no run folder; no surface frames yet; no blender on PATH.
+set +e
+"$bin" export blender "$work" > /dev/null 2> "$work/e1.log"; s1=$?
+"$bin" export blender "$work/run" > /dev/null 2> "$work/e2.log"; s2=$?
+env PATH=/nonexistent "$bin" export blender "$work/run" > /dev/null 2> "$work/e3.log"; s3=$?
+set -e
+[ "$s1" -ne 0 ] && grep -q "is not a run folder" "$work/e1.log" || fail "a folder that is not a run: status $s1, $(cat "$work/e1.log")"
+[ "$s2" -ne 0 ] && grep -q "no finished surface frames; run the surface stage" "$work/e2.log" ||
+  fail "a run without surfaces: status $s2, $(cat "$work/e2.log")"
+[ "$s3" -ne 0 ] && grep -q "setup.sh --with-blender" "$work/e3.log" || fail "no blender on PATH: status $s3, $(cat "$work/e3.log")"
+ls "$work/run"/*.blend > /dev/null 2>&1 && fail "a failed export left a .blend"
+
+"$bin" run "${args[@]}" --stages surface,render --frames 0 --out "$work/run" 2> "$work/render.log" || fail "render failed: $(cat "$work/render.log")"
+"$bin" run "${args[@]}" --stages surface --out "$work/run" 2> "$work/surface.log" || fail "surface failed: $(cat "$work/surface.log")"
+# The camera the renderer used, from its message "... framing the solids [lo]-[hi] from (x, y, z)"
+# (3 significant digits: hence camera_tolerance below); it looks at the box's centre.
+framing=$(grep -o 'framing the solids.*' "$work/render.log") || fail "the renderer printed no framing: $(cat "$work/render.log")"
+read -r -a nums <<< "$(echo "$framing" | grep -oE -- '-?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?' | tr '\n' ' ')"
+[ "${#nums[@]}" -eq 9 ] || fail "cannot read the framing message: $framing"
+
+expect() {  # $1 = vdb|ply: the scene's values, stated here (water_oil.toml and the --set above)
+  cat << EOF
+{"frame_start": 0, "frame_end": 3, "fps": 25, "fov": 40, "meshes": "$1", "image": [32, 24, 1],
+ "camera_position": [${nums[6]}, ${nums[7]}, ${nums[8]}],
+ "look_at": [$(python3 -c "n=[float(x) for x in '${nums[*]}'.split()]; print(', '.join(str((n[k]+n[k+3])/2) for k in range(3)))")],
+ "light_position": [0.4, 0.6, 0.5], "light_radius": 0.05,
+ "fluids": [{"name": "water", "ior": 1.33, "absorption": [4.0, 1.2, 0.8], "reference_ply": "$work/run/mesh/water.0003.ply"},
+   {"name": "oil", "ior": 1.5, "absorption": [1.0, 3.0, 25.0], "reference_ply": "$work/run/mesh/oil.0003.ply"}],
+ "camera_tolerance": 0.005, "containers": ["tank"], "min_changed_pixels": 20}
+EOF
+}
+# A Blender that hangs is stopped at --timeout; one that fails, or exits 0 without writing the
+# file, leaves no .blend (stand-ins for blender on PATH).
+mkdir -p "$work/fake"
+printf '#!/bin/sh\nexec sleep 60\n' > "$work/fake/blender"
+chmod +x "$work/fake/blender"
+set +e
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" --timeout 1 > /dev/null 2> "$work/e4.log"; s4=$?
+printf '#!/bin/sh\necho "some python error" >&2\nexit 1\n' > "$work/fake/blender"
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" > /dev/null 2> "$work/e5.log"; s5=$?
+printf '#!/bin/sh\nexit 0\n' > "$work/fake/blender"
+PATH="$work/fake:$PATH" "$bin" export blender "$work/run" > /dev/null 2> "$work/e6.log"; s6=$?
+set -e
+[ "$s4" -ne 0 ] && grep -q "time limit of 1 s" "$work/e4.log" || fail "a hanging blender: status $s4, $(cat "$work/e4.log")"
+[ "$s5" -ne 0 ] && grep -q "some python error" "$work/e5.log" || fail "a failing blender: status $s5, $(cat "$work/e5.log")"
+[ "$s6" -ne 0 ] && grep -q "wrote no file" "$work/e6.log" || fail "a blender that wrote nothing: status $s6, $(cat "$work/e6.log")"
+ls "$work/run" | grep -q '\.blend$\|tmp' && fail "a failed export left a file: $(ls "$work/run")"
+
+for meshes in vdb ply; do
+  # Hostile characters in the output's folder: they reach Blender as one argument and as JSON.
+  out="$work/out $meshes 'q' \"\$(touch pwned)\""
+  t0=$(date +%s.%N)
+  "$bin" export blender "$work/run" --meshes "$meshes" --out "$out/water_oil.blend" 2> "$work/export_$meshes.log" ||
+    fail "export --meshes $meshes failed: $(cat "$work/export_$meshes.log")"
+  t1=$(date +%s.%N)
+  [ -s "$out/water_oil.blend" ] || fail "no .blend written"
+  ls "$out" | grep -q tmp && fail "a temporary was left: $(ls "$out")"
+  [ -e pwned ] || [ -e "$work/pwned" ] && fail "a file name was run as a command"
+  expect "$meshes" > "$work/expect_$meshes.json"
+  blender -b "$out/water_oil.blend" --factory-startup --python-exit-code 1 -P "$src/tests/blender_check.py" -- \
+    "$work/expect_$meshes.json" "$work/render_$meshes.png" > "$work/check_$meshes.log" 2>&1 ||
+    fail "the $meshes .blend fails its checks:
+$(grep -E '^(FAIL|ok)|Error|error' "$work/check_$meshes.log")"
+  grep -c '^ok' "$work/check_$meshes.log" | xargs echo "--meshes $meshes: export $(python3 -c "print(f'{$t1-$t0:.1f}')") s, checks passed:"
+done
+# The PLY point cloud in Blender's PLY importer: every particle a vertex; which properties it keeps.
+ply=$work/run/points/points.0002.ply
+n=$(head -c 2000 "$ply" | grep -a -m1 '^element vertex' | awk '{print $3}')
+blender -b --factory-startup --python-exit-code 1 --python-expr '
+import bpy, sys
+path, n = sys.argv[sys.argv.index("--") + 1:]
+bpy.ops.import_mesh.ply(filepath=path)
+me = bpy.context.selected_objects[0].data
+print("points: %d vertices, %d edges, %d faces; attributes: %s" % (len(me.vertices), len(me.edges), len(me.polygons),
+      " ".join(sorted(a.name for a in me.attributes))))
+if len(me.vertices) != int(n) or len(me.polygons) != 0:
+    raise RuntimeError("expected %s vertices and no faces" % n)
+import struct  # the first vertex where the file has it: float x y z right after the header
+data = open(path, "rb").read()
+x = struct.unpack_from("<3f", data, data.index(b"end_header\n") + 11)
+if (me.vertices[0].co - __import__("mathutils").Vector(x)).length > 1e-7:
+    raise RuntimeError("vertex 0 at %s, the file has %s" % (tuple(me.vertices[0].co), x))
+' -- "$ply" "$n" > "$work/points.log" 2>&1 || fail "Blender did not import the PLY point cloud: $(tail -5 "$work/points.log")"
+grep '^points:' "$work/points.log"
+echo "PASS"
