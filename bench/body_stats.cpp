@@ -7,8 +7,9 @@
 // Per frame and fluid: particles, bodies, the largest body, bodies of 8 or more particles, the
 // share of the fluid in bodies under 10 particles ("spray"); "risen": bodies of 2-50 % of the fluid
 // (blobs, not the pool, not spray) whose centroid is above y = mid (default: the middle of the
-// frames' particle heights in frame 0); "under": bodies of 8 or more whose top is below another
-// fluid's particle within 2 spacings across (bubbles under a surface); "round": the mean roundness
+// containers, from the scene as run, DIR/scene.toml); "under": bodies of 8 or more whose top is
+// below a denser fluid's particle within 2 spacings across (bubbles under a surface), and the
+// particles that are; "round": the mean roundness
 // of bodies of 20-200 particles (1 a ball). Then, over the run, per fluid:
 //   - risen events: risen bodies that share no particle with a risen body of the frame before;
 //   - returns: risen bodies of one frame whose particles are, in the next, mostly in the fluid's
@@ -31,6 +32,7 @@
 
 #include "sim/bodies.h"
 #include "sim/particle_io.h"
+#include "sim/scene_file.h"
 
 namespace fs = std::filesystem;
 using namespace mf;
@@ -50,15 +52,33 @@ struct PhaseTotals {
   double worstSpray = 0, worstSprayTime = 0;
 };
 
-bool underSurface(const FluidBody& b, const ParticleFrame& fr, Real across) {
-  const Real a2 = across * across;
-  for (size_t k = 0; k < fr.size(); ++k) {
-    if (fr.phase[k] == b.phase || fr.position[k].y <= b.upper.y) continue;
-    const Real dx = fr.position[k].x - b.centroid.x, dz = fr.position[k].z - b.centroid.z;
-    if (dx * dx + dz * dz <= a2) return true;
+// The highest particle of each fluid per column of one spacing across (x, z): what "under a
+// surface" is judged against.
+struct Columns {
+  Real cell = 1;
+  std::map<std::pair<int64_t, int64_t>, std::map<int32_t, Real>> top;
+  Columns(const ParticleFrame& fr, Real spacing) : cell(spacing) {
+    for (size_t k = 0; k < fr.size(); ++k) {
+      Real& t = top[key(fr.position[k])].try_emplace(fr.phase[k], -1e30).first->second;
+      t = std::max(t, fr.position[k].y);
+    }
   }
-  return false;
-}
+  std::pair<int64_t, int64_t> key(const Vec3& x) const {
+    return {int64_t(std::floor(x.x / cell)), int64_t(std::floor(x.z / cell))};
+  }
+  /// Whether a denser fluid than `phase` has a particle above height y within 2 columns of x.
+  bool under(const Vec3& x, Real y, int32_t phase, const std::vector<Real>& restDensity) const {
+    const auto [cx, cz] = key(x);
+    for (int64_t a = cx - 2; a <= cx + 2; ++a)
+      for (int64_t b = cz - 2; b <= cz + 2; ++b) {
+        const auto it = top.find({a, b});
+        if (it == top.end()) continue;
+        for (const auto& [p, t] : it->second)
+          if (restDensity[size_t(p)] > restDensity[size_t(phase)] && t > y) return true;
+      }
+    return false;
+  }
+};
 
 }  // namespace
 
@@ -82,6 +102,23 @@ int main(int argc, char** argv) {
   std::vector<std::string> names;
   int frames = 0;
   try {
+    // The scene as run: the fluids' rest densities, and the containers' heights for `mid`.
+    const Scene scene = loadScene((dir / "scene.toml").string());
+    std::vector<Real> restDensity;
+    for (const PhaseSpec& ph : scene.phases) restDensity.push_back(ph.restDensity);
+    if (std::isnan(mid)) {
+      Real lo = scene.domainMin.y, hi = scene.domainMax.y;
+      if (!scene.solids.empty()) {
+        lo = 1e30, hi = -1e30;
+        for (const SolidSpec& so : scene.solids) {
+          const bool box = so.shape == SolidSpec::Shape::Box;
+          const Real top = box ? so.max.y : so.base.y + (so.profile.empty() ? so.height : so.profile.back().first);
+          lo = std::min(lo, box ? so.min.y : so.base.y), hi = std::max(hi, top);
+        }
+      }
+      mid = 0.5 * (lo + hi);
+      fmt::print("mid = {:.4f} m (half way up the {}; set mid=Y)\n", mid, scene.solids.empty() ? "domain" : "containers");
+    }
     for (int f = 0;; ++f) {
       const fs::path file = dir / "particles" / fmt::format("particles.{:04d}.vdb", f);
       if (!fs::exists(file)) {
@@ -91,12 +128,7 @@ int main(int argc, char** argv) {
       const ParticleFrame fr = readParticleFrame(file.string());
       names = fr.info.phaseNames;
       const Real s = Real(fr.info.particleSpacing);
-      if (std::isnan(mid)) {
-        Real lo = 1e30, hi = -1e30;
-        for (const Vec3& x : fr.position) lo = std::min(lo, x.y), hi = std::max(hi, x.y);
-        mid = 0.5 * (lo + hi);
-        fmt::print("mid = {:.4f} m (the middle of frame {}'s particle heights; set mid=Y)\n", mid, f);
-      }
+      const Columns columns(fr, s);
       const FluidBodies fb = findBodies(fr.position.data(), fr.phase.data(), fr.size(), link * s);
       std::map<int32_t, size_t> count;
       for (int32_t p : fr.phase) ++count[p];
@@ -121,19 +153,21 @@ int main(int argc, char** argv) {
             pf.risenIds.insert(ids.begin(), ids.end());
             pf.risen.push_back(ids);
           }
-          if (b.size() >= 8 && underSurface(b, fr, 2 * s)) {
+          if (b.size() >= 8 && columns.under(b.centroid, b.upper.y, p, restDensity)) {
             pf.underIds.insert(ids.begin(), ids.end());
             pf.under.push_back(ids);
           }
           if (&b == largest) pf.largestIds.insert(ids.begin(), ids.end());
         }
+        size_t underParticles = 0;
+        for (size_t k = 0; k < fr.size(); ++k) underParticles += fr.phase[k] == p && columns.under(fr.position[k], fr.position[k].y, p, restDensity);
         PhaseTotals& t = totals[p];
+        t.lastUnderParticles = underParticles;
         const double sprayShare = double(spray) / double(n);
         if (sprayShare > t.worstSpray) t.worstSpray = sprayShare, t.worstSprayTime = fr.info.time;
         t.mostRisen = std::max(t.mostRisen, pf.risen.size());
         t.mostUnder = std::max(t.mostUnder, pf.under.size());
         t.lastUnderBodies = pf.under.size();
-        t.lastUnderParticles = pf.underIds.size();
         auto prev = before.find(p);
         for (const auto& ids : pf.risen) {
           bool seen = false;
@@ -153,8 +187,8 @@ int main(int argc, char** argv) {
             t.bursts += !stillUnder;
           }
         }
-        line += fmt::format(" | {} {} in {} bodies, largest {}, 8+ {}, spray {:.1f} %, risen {}, under {}", names.at(size_t(p)), n,
-                            bodies, largest ? largest->size() : 0, eight, 100 * sprayShare, pf.risen.size(), pf.under.size());
+        line += fmt::format(" | {} {} in {} bodies, largest {}, 8+ {}, spray {:.1f} %, risen {}, under {} ({} particles)", names.at(size_t(p)), n,
+                            bodies, largest ? largest->size() : 0, eight, 100 * sprayShare, pf.risen.size(), pf.under.size(), underParticles);
         if (roundN) line += fmt::format(", round {:.3f} ({} bodies of 20-200)", round / double(roundN), roundN);
       }
       fmt::print("{}\n", line);
@@ -168,7 +202,7 @@ int main(int argc, char** argv) {
   fmt::print("over {} frames (link {} spacings, mid {:.4f} m):\n", frames, link, mid);
   for (const auto& [p, t] : totals)
     fmt::print("  {}: risen events {}, returns {}, bursts {}, at once: risen {} under {}; spray at most {:.2f} % (t {:.2f} s); "
-               "last frame under a surface: {} bodies, {} particles\n",
+               "last frame under a surface: {} bodies of 8+, {} particles in all\n",
                names.at(size_t(p)), t.risenEvents, t.returns, t.bursts, t.mostRisen, t.mostUnder, 100 * t.worstSpray,
                t.worstSprayTime, t.lastUnderBodies, t.lastUnderParticles);
   return 0;
