@@ -15,17 +15,23 @@
 // then the rel RMSE of the mean of those renders (an unbiased renderer's matches that of one
 // render with all their samples), and, at the first spp, the frame-to-frame change on the static glass scene: the % of pixels
 // that differ by more than 0.016 (idiff, as displayed) between frames 0 and 1.
+// Denoised (render/denoise.h): for every spp the same renders denoised, their rel RMSE and MAE,
+// the render's and the denoiser's wall time; then at equal time, the raw renderer at the spp
+// whose render costs what the render plus the denoiser cost at this spp (the spp scaled by the
+// ratio of the times, rounded), and the ratio of its rel RMSE to the denoised one's.
 // Figures are in docs/rendering.md, with the renderer they belong to.
 #include <fmt/format.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/info.h>
 
 #include <cmath>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "render/denoise.h"
 #include "render/path_tracer.h"
 #include "sim/scene_file.h"
 
@@ -207,6 +213,38 @@ render::Image reference(const std::string& name, int spp, const std::string& dir
   return im;
 }
 
+/// `reps` renders of frames 1..reps (animated seeds), raw and (with `denoised`) denoised.
+struct Runs {
+  Error raw, denoised;
+  double renderSeconds = 1e30, denoiseSeconds = 1e30;  // the best of the renders
+  render::Image mean, last, lastDenoised;
+};
+
+Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, bool denoised) {
+  Runs r;
+  r.mean = render::Image(ref.width, ref.height);
+  double mse = 0, dmse = 0;
+  for (int rep = 0; rep < reps; ++rep) {
+    render::RenderStats st;
+    render::Aovs aovs;
+    r.last = tracer.render(rep + 1, &st, {}, nullptr, denoised ? &aovs : nullptr);
+    for (size_t i = 0; i < r.last.rgb.size(); ++i) r.mean.rgb[i] += r.last.rgb[i] / reps;
+    r.renderSeconds = std::min(r.renderSeconds, st.seconds);
+    const Error one = measure(r.last, ref);
+    mse += one.relRmse * one.relRmse / reps, r.raw.black += one.black / reps, r.raw.relMae += one.relMae / reps;
+    if (!denoised) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    r.lastDenoised = render::denoise(r.last, aovs);
+    r.denoiseSeconds = std::min(r.denoiseSeconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    const Error d = measure(r.lastDenoised, ref);
+    dmse += d.relRmse * d.relRmse / reps, r.denoised.black += d.black / reps, r.denoised.relMae += d.relMae / reps;
+  }
+  r.raw.relRmse = std::sqrt(mse), r.denoised.relRmse = std::sqrt(dmse);
+  return r;
+}
+
+int repsFor(int spp) { return std::max(1, std::min(64, 512 / spp)); }
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -229,24 +267,26 @@ int main(int argc, char** argv) {
     for (int spp : spps) {
       // Rel RMSE and black: over `reps` independent renders (frames 1..reps with animated
       // seeds), as one pixel's firefly moves the figure of a single render by a lot.
-      const int reps = std::max(1, std::min(64, 512 / spp));
+      const int reps = repsFor(spp);
       auto tracer = makeScene(name, spp, false, true);
-      render::RenderStats st;
-      double best = 1e30, mse = 0, black = 0, mae = 0;
-      render::Image x, mean(ref.width, ref.height);
-      for (int rep = 0; rep < reps; ++rep) {
-        x = tracer->render(rep + 1, &st);
-        for (size_t i = 0; i < x.rgb.size(); ++i) mean.rgb[i] += x.rgb[i] / reps;
-        best = std::min(best, st.seconds);
-        const Error one = measure(x, ref);
-        mse += one.relRmse * one.relRmse / reps, black += one.black / reps, mae += one.relMae / reps;
-      }
-      Error e{std::sqrt(mse), black, mae};
+      const Runs r = runs(*tracer, ref, reps, true);
+      const Error& e = r.raw;
       fmt::print("  {:<5} {:>5} spp: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s  ({} renders)\n", name, spp,
-                 e.relRmse, e.relMae, 100 * e.black, best, reps);
+                 e.relRmse, e.relMae, 100 * e.black, r.renderSeconds, reps);
       if (reps > 1)  // unbiased: the mean of the renders has the error of reps * spp samples
-        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(mean, ref).relRmse);
-      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), x);
+        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(r.mean, ref).relRmse);
+      const Error& d = r.denoised;
+      fmt::print("        denoised: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s + denoiser {:.3f} s\n", d.relRmse,
+                 d.relMae, 100 * d.black, r.renderSeconds, r.denoiseSeconds);
+      // Equal time: raw samples for the render's and the denoiser's time together.
+      const int eqSpp = std::max(spp, int(std::lround(spp * (r.renderSeconds + r.denoiseSeconds) / r.renderSeconds)));
+      auto eqTracer = makeScene(name, eqSpp, false, true);
+      const Runs eq = runs(*eqTracer, ref, repsFor(eqSpp), false);
+      fmt::print("        equal time: raw {} spp rel RMSE {:.4f} (time {:.3f} s, {} renders); raw / denoised rel RMSE {:.2f}x"
+                 " (the issue's target: 4x)\n",
+                 eqSpp, eq.raw.relRmse, eq.renderSeconds, repsFor(eqSpp), eq.raw.relRmse / d.relRmse);
+      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), r.last);
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), r.lastDenoised);
     }
   }
   auto glass = makeScene("glass", spps.front(), false);

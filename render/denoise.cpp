@@ -1,0 +1,161 @@
+#include "denoise.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <limits>
+#include <cmath>
+#include <stdexcept>
+
+namespace mf::render {
+
+namespace {
+
+// Below this albedo a channel is not divided out: its light would be amplified noise.
+constexpr float kAlbedoFloor = 0.02f;
+// The B3 spline's taps (1, 4, 6, 4, 1) / 16, as Dammertz et al. use them.
+constexpr float kKernel[3] = {3.0f / 8, 1.0f / 4, 1.0f / 16};
+
+float luminance(const float* c) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+/// x^power, by squaring where the power is a whole number (SVGF's 128: seven multiplications).
+float powerOf(float x, float power) {
+  if (power == std::floor(power) && power >= 0 && power <= 1024) {
+    float r = 1;
+    for (unsigned e = unsigned(power); e; e >>= 1, x *= x)
+      if (e & 1) r *= x;
+    return r;
+  }
+  return std::pow(x, power);
+}
+
+/// The depth's screen-space change per pixel along one axis: the smaller of the two one-sided
+/// differences, so that a pixel next to a silhouette does not take the jump for its slope.
+float depthSlope(float zl, float z, float zr) {
+  float best = std::numeric_limits<float>::infinity();
+  if (std::isfinite(zl)) best = std::min(best, std::abs(z - zl));
+  if (std::isfinite(zr)) best = std::min(best, std::abs(zr - z));
+  return std::isfinite(best) ? best : 0.0f;
+}
+
+/// The variance blurred by a 3x3 binomial kernel (SVGF: a steadier estimate of the
+/// luminance's standard deviation than the pixel's own few samples give).
+std::vector<float> blurVariance(const std::vector<float>& var, int w, int h) {
+  std::vector<float> out(var.size());
+  const float k[3] = {0.25f, 0.5f, 0.25f};
+  tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
+      for (int x = 0; x < w; ++x) {
+        float sum = 0, wsum = 0;
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = x + dx, qy = y + dy;
+            if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+            const float kw = k[dx + 1] * k[dy + 1];
+            sum += kw * var[size_t(qy) * w + qx];
+            wsum += kw;
+          }
+        out[size_t(y) * w + x] = sum / wsum;
+      }
+  });
+  return out;
+}
+
+}  // namespace
+
+Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
+  const int w = noisy.width, h = noisy.height;
+  if (aovs.width != w || aovs.height != h || aovs.albedo.size() != size_t(w) * h * 3 || aovs.variance.size() != size_t(w) * h)
+    throw std::invalid_argument("denoise: the AOVs are not the image's size");
+  const size_t n = size_t(w) * h;
+  const std::vector<float>& albedo = aovs.albedo;
+  const std::vector<float>& normal = aovs.normal;
+  const std::vector<float>& depth = aovs.depth;
+
+  // Demodulate: light = colour / albedo per channel; the variance scaled by the same factor.
+  std::vector<float> light(n * 3), var(n);
+  for (size_t p = 0; p < n; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      const float a = albedo[3 * p + c];
+      light[3 * p + c] = a > kAlbedoFloor ? noisy.rgb[3 * p + c] / a : noisy.rgb[3 * p + c];
+    }
+    const float lc = luminance(&noisy.rgb[3 * p]), ll = luminance(&light[3 * p]);
+    const float scale = lc > 1e-12f ? ll / lc : 1 / std::max(luminance(&albedo[3 * p]), kAlbedoFloor);
+    var[p] = aovs.variance[p] * scale * scale;
+  }
+  std::vector<float> slopeX(n), slopeY(n);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t p = size_t(y) * w + x;
+      const float inf = std::numeric_limits<float>::infinity();
+      slopeX[p] = depthSlope(x > 0 ? depth[p - 1] : inf, depth[p], x + 1 < w ? depth[p + 1] : inf);
+      slopeY[p] = depthSlope(y > 0 ? depth[p - w] : inf, depth[p], y + 1 < h ? depth[p + w] : inf);
+    }
+
+  std::vector<float> nextLight(n * 3), nextVar(n);
+  const float albedoScale = 1 / (s.sigmaAlbedo * s.sigmaAlbedo);
+  for (int it = 0; it < s.iterations; ++it) {
+    const int step = 1 << it;
+    const std::vector<float> sd = blurVariance(var, w, h);
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t p = size_t(y) * w + x;
+          const float* np = &normal[3 * p];
+          const float* ap = &albedo[3 * p];
+          const float zp = depth[p], lp = luminance(&light[3 * p]);
+          const bool skyP = np[0] == 0 && np[1] == 0 && np[2] == 0;
+          const float lumScale = 1 / (s.sigmaLuminance * std::sqrt(std::max(sd[p], 0.0f)) + 1e-6f);
+          const float depthEps = 1e-3f * (std::isfinite(zp) ? zp : 0.0f) + 1e-6f;
+          float sumW = 0, sumV = 0, sum[3] = {0, 0, 0};
+          for (int dy = -2; dy <= 2; ++dy) {
+            const int qy = y + dy * step;
+            if (qy < 0 || qy >= h) continue;
+            for (int dx = -2; dx <= 2; ++dx) {
+              const int qx = x + dx * step;
+              if (qx < 0 || qx >= w) continue;
+              const size_t q = size_t(qy) * w + qx;
+              float wq = kKernel[std::abs(dx)] * kKernel[std::abs(dy)];
+              if (q != p) {
+                const float* nq = &normal[3 * q];
+                const bool skyQ = nq[0] == 0 && nq[1] == 0 && nq[2] == 0;
+                if (skyP != skyQ) continue;
+                const float zq = depth[q];
+                if (std::isfinite(zp) != std::isfinite(zq)) continue;
+                float exponent = 0;
+                if (std::isfinite(zp)) {
+                  const float predicted = s.sigmaDepth * (slopeX[p] * std::abs(dx * step) + slopeY[p] * std::abs(dy * step));
+                  exponent += std::abs(zp - zq) / (predicted + depthEps);
+                }
+                const float* aq = &albedo[3 * q];
+                const float da[3] = {ap[0] - aq[0], ap[1] - aq[1], ap[2] - aq[2]};
+                exponent += (da[0] * da[0] + da[1] * da[1] + da[2] * da[2]) * albedoScale;
+                exponent += std::abs(lp - luminance(&light[3 * q])) * lumScale;
+                if (!skyP) wq *= powerOf(std::max(0.0f, np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]), s.normalPower);
+                wq *= std::exp(-exponent);
+              }
+              for (int c = 0; c < 3; ++c) sum[c] += wq * light[3 * q + c];
+              sumW += wq;
+              sumV += wq * wq * var[q];
+            }
+          }
+          // sumW >= the centre tap's 9/64 > 0.
+          for (int c = 0; c < 3; ++c) nextLight[3 * p + c] = sum[c] / sumW;
+          nextVar[p] = sumV / (sumW * sumW);  // the variance of the weighted mean (SVGF eq. 3)
+        }
+    });
+    light.swap(nextLight);
+    var.swap(nextVar);
+  }
+
+  Image out(w, h);
+  for (size_t p = 0; p < n; ++p)
+    for (int c = 0; c < 3; ++c) {
+      const float a = albedo[3 * p + c];
+      out.rgb[3 * p + c] = a > kAlbedoFloor ? light[3 * p + c] * a : light[3 * p + c];
+    }
+  return out;
+}
+
+}  // namespace mf::render
