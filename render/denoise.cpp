@@ -98,13 +98,15 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
   for (int it = 0; it < s.iterations; ++it) {
     const int step = 1 << it;
     const std::vector<float> sd = blurVariance(var, w, h);
+    std::vector<float> lum(n);
+    for (size_t p = 0; p < n; ++p) lum[p] = luminance(&light[3 * p]);
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
         for (int x = 0; x < w; ++x) {
           const size_t p = size_t(y) * w + x;
           const float* np = &normal[3 * p];
           const float* ap = &albedo[3 * p];
-          const float zp = depth[p], lp = luminance(&light[3 * p]);
+          const float zp = depth[p], lp = lum[p];
           const bool skyP = np[0] == 0 && np[1] == 0 && np[2] == 0;
           const float lumScale = 1 / (s.sigmaLuminance * std::sqrt(std::max(sd[p], 0.0f)) + 1e-6f);
           const float depthEps = 1e-3f * (std::isfinite(zp) ? zp : 0.0f) + 1e-6f;
@@ -131,7 +133,8 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
                 const float* aq = &albedo[3 * q];
                 const float da[3] = {ap[0] - aq[0], ap[1] - aq[1], ap[2] - aq[2]};
                 exponent += (da[0] * da[0] + da[1] * da[1] + da[2] * da[2]) * albedoScale;
-                exponent += std::abs(lp - luminance(&light[3 * q])) * lumScale;
+                exponent += std::abs(lp - lum[q]) * lumScale;
+                if (exponent > 30) continue;  // a weight below 1e-13: none
                 if (!skyP) wq *= powerOf(std::max(0.0f, np[0] * nq[0] + np[1] * nq[1] + np[2] * nq[2]), s.normalPower);
                 wq *= std::exp(-exponent);
               }

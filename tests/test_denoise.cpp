@@ -37,8 +37,8 @@ struct Synthetic {
 /// Top half at 1 m, bottom half at 3 m, both facing the camera: a depth edge at y = 32 that only
 /// the depth can find, with light 0.6..1.0 (a gradient in x) above and 0.25..0.35 below (a
 /// shadow). Each of 8 samples per pixel is the clean value times (1 + 0.9 g), g a standard normal
-/// per channel: relative noise 0.32 in the mean, about the renderer's at 8 spp (0.13-0.15 rel RMSE
-/// where half of it is dark). The AOVs come from the renderer's own accumulator (AovPixel).
+/// per channel: relative noise 0.32 in the mean, more than the renderer's 8-spp rel RMSE of
+/// 0.13-0.15 on its bench scenes. The AOVs come from the renderer's own accumulator (AovPixel).
 Synthetic synthetic(uint32_t seed) {
   Synthetic s{Image(kW, kH), Image(kW, kH), Aovs(kW, kH, {"fluid"})};
   std::mt19937 rng(seed);
@@ -96,26 +96,27 @@ TEST(Denoise, NoiseFallsAndEdgesStaySharp) {
   const Synthetic s = synthetic(1);
   const Image out = render::denoise(s.noisy, s.aovs);
   const double before = rmse(s.noisy, s.clean), after = rmse(out, s.clean);
-  // Measured 0.0586 -> 0.0074 (7.9x) at this seed. 5 passes of a 5x5 kernel average some
-  // hundred pixels of matching features where the signal is smooth; 4x leaves room for another
-  // seed or a retuned sigma without accepting a filter that no longer works (a 3x3 box blur
-  // would give about 3x and smear both edges).
-  EXPECT_LT(after, before / 4) << "rel noise before " << before << ", after " << after;
+  // Measured: 0.0997 -> 0.0077 (13.0x) at this seed, 12.4x-16.5x at seeds 10-15. Half the
+  // least of those leaves room for retuning without accepting a filter that has stopped working.
+  EXPECT_LT(after, before / 6) << "RMSE before " << before << ", after " << after;
 
-  // The albedo edge at x = 48 (rows 2..29 of the lit top half, away from the depth edge): each
-  // side's column keeps its clean luminance within 4 % (the noise left in a 28-row mean is about
-  // 1 %; blurring across the edge moves them by tens of per cent, the two sides' luminances
-  // being 0.41 and 0.34 times the light).
+  // Edges: the mean of each side's pixel column or row next to the edge stays within 8 % of its
+  // clean value. Blur across an edge would move them by 30-100 % (the two sides differ by a
+  // factor 1.2 in luminance at the albedo edge and 3 at the depth edge). What the tolerance
+  // allows: the filter averages one-sided next to an edge, so the light's gradient biases those
+  // pixels (measured on this image without noise: up to 3.6 %), plus the noise left in a mean
+  // of 28-44 correlated pixels (measured over seeds 10-15: up to 5 % together).
+  // The albedo edge at x = 48, rows 2..29 of the top half (away from the depth edge).
   for (int x : {kW / 2 - 1, kW / 2}) {
     const double clean = columnMean(s.clean, x, 2, 29), got = columnMean(out, x, 2, 29);
-    EXPECT_NEAR(got / clean, 1.0, 0.04) << "column " << x;
+    EXPECT_NEAR(got / clean, 1.0, 0.08) << "column " << x;
   }
-  // The depth edge at y = 32 (light 1 above, 0.3 below: the shadow's edge; albedo, normal and
-  // mask aside, only the depth sees it): the rows on each side within 4 % of their clean means.
+  // The depth edge at y = 32 (light 1 above, 0.3 below: a shadow's edge; albedo, normal and
+  // mask aside, only the depth sees it), each side of the albedo edge.
   for (int y : {kH / 2 - 1, kH / 2})
     for (int x0 : {2, kW / 2 + 2}) {
       const double clean = rowMean(s.clean, y, x0, x0 + kW / 2 - 5), got = rowMean(out, y, x0, x0 + kW / 2 - 5);
-      EXPECT_NEAR(got / clean, 1.0, 0.04) << "row " << y << " from x " << x0;
+      EXPECT_NEAR(got / clean, 1.0, 0.08) << "row " << y << " from x " << x0;
     }
 }
 
@@ -136,29 +137,6 @@ TEST(Denoise, SameBitsOnOneAndTwoThreads) {
 TEST(Denoise, RefusesAovsOfAnotherSize) {
   const Synthetic s = synthetic(3);
   EXPECT_THROW(render::denoise(Image(kW + 1, kH), s.aovs), std::invalid_argument);
-}
-
-TEST(Denoise, IterationsKeyIsRangeChecked) {
-  const char* scene = R"(
-[scene]
-name = "k"
-[[phase]]
-name = "water"
-[[fluid]]
-phase = "water"
-min = [0.1, 0.1, 0.1]
-max = [0.2, 0.2, 0.2]
-)";
-  EXPECT_TRUE(parseScene(scene, "k", {}).render.denoise);  // on unless the scene says otherwise
-  EXPECT_FALSE(parseScene(scene, "k", {"render.denoise=false"}).render.denoise);
-  try {
-    parseScene(scene, "k", {"render.denoise_iterations=9"});
-    ADD_FAILURE() << "denoise_iterations = 9 accepted";
-  } catch (const std::exception& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("render.denoise_iterations"), std::string::npos) << m;
-    EXPECT_NE(m.find("8"), std::string::npos) << m;
-  }
 }
 
 namespace {
@@ -267,3 +245,17 @@ TEST(RenderAov, ExrHasTheLayersWithSaneValues) {
   for (size_t i = 0; i < back.rgb.size(); ++i) ASSERT_NEAR(back.rgb[i], clean.rgb[i], 2e-3 * (1 + clean.rgb[i]));
   fs::remove_all(dir);
 }
+
+TEST(Denoise, IterationsKeyIsRangeChecked) {
+  EXPECT_TRUE(parseScene(kGlass, "glass", {}).render.denoise);  // on unless the scene says otherwise
+  EXPECT_FALSE(parseScene(kGlass, "glass", {"render.denoise=false"}).render.denoise);
+  try {
+    parseScene(kGlass, "glass", {"render.denoise_iterations=9"});
+    ADD_FAILURE() << "denoise_iterations = 9 accepted";
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("render.denoise_iterations"), std::string::npos) << m;
+    EXPECT_NE(m.find("[1, 8]"), std::string::npos) << m;  // the allowed range
+  }
+}
+
