@@ -67,7 +67,7 @@ std::vector<float> blurVariance(const std::vector<float>& var, int w, int h) {
 /// across sky and surface or differing depth, normal or albedo, 1 where they match.
 struct Guides {
   int w = 0, h = 0;
-  const std::vector<float>& albedo;
+  const std::vector<float>* albedo;  // the guide: the AOV, then its smoothed version
   const std::vector<float>& normal;
   const std::vector<float>& depth;
   std::vector<float> slopeX, slopeY;
@@ -75,7 +75,7 @@ struct Guides {
   float normalPower, sigmaDepth, albedoScale;
 
   Guides(const Aovs& a, const DenoiseSettings& s)
-      : w(a.width), h(a.height), albedo(a.albedo), normal(a.normal), depth(a.depth), slopeX(a.pixels()), slopeY(a.pixels()),
+      : w(a.width), h(a.height), albedo(&a.albedo), normal(a.normal), depth(a.depth), slopeX(a.pixels()), slopeY(a.pixels()),
         sky(a.pixels()), normalPower(s.normalPower), sigmaDepth(s.sigmaDepth),
         albedoScale(1 / (s.sigmaAlbedo * s.sigmaAlbedo)) {
     const float inf = std::numeric_limits<float>::infinity();
@@ -99,8 +99,8 @@ struct Guides {
       const float predicted = sigmaDepth * (slopeX[p] * std::abs(ox) + slopeY[p] * std::abs(oy));
       exponent += std::abs(zp - zq) / (predicted + 1e-3f * zp + 1e-6f);
     }
-    const float* ap = &albedo[3 * p];
-    const float* aq = &albedo[3 * q];
+    const float* ap = &(*albedo)[3 * p];
+    const float* aq = &(*albedo)[3 * q];
     const float da[3] = {ap[0] - aq[0], ap[1] - aq[1], ap[2] - aq[2]};
     exponent += (da[0] * da[0] + da[1] * da[1] + da[2] * da[2]) * albedoScale;
     if (sky[p]) return 1;
@@ -116,7 +116,7 @@ struct Guides {
 /// step well above sigma_albedo stops the kernel), so this smooths only what the samples had not
 /// resolved.
 std::vector<float> smoothAlbedo(const Guides& g) {
-  std::vector<float> cur = g.albedo, next(cur.size());
+  std::vector<float> cur = *g.albedo, next(cur.size());
   for (int step = 1; step <= 2; step *= 2) {
     tbb::parallel_for(tbb::blocked_range<int>(0, g.h), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
@@ -168,7 +168,9 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
     const float scale = lc > 1e-12f ? ll / lc : 1 / std::max(luminance(&albedo[3 * p]), kAlbedoFloor);
     var[p] = aovs.variance[p] * scale * scale;
   }
-  const Guides guides(aovs, s);
+  Guides guides(aovs, s);
+  const std::vector<float> smooth = smoothAlbedo(guides);
+  guides.albedo = &smooth;
   std::vector<float> nextLight(n * 3), nextVar(n);
   for (int it = 0; it < s.iterations; ++it) {
     const int step = 1 << it;
@@ -212,7 +214,6 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
   }
 
   // Remodulate with the smoothed albedo; the sky (noise-free: no sample there bounces) as it was.
-  const std::vector<float> smooth = smoothAlbedo(guides);
   Image out(w, h);
   for (size_t p = 0; p < n; ++p)
     for (int c = 0; c < 3; ++c) {
