@@ -20,7 +20,7 @@ namespace mf::render {
 
 struct DenoiseSettings {
   int iterations = 5;         // à-trous passes: the kernel spans 4 (2^iterations - 1) + 1 pixels
-  float sigmaLuminance = 4;   // SVGF's sigma_l: luminance differences in standard deviations
+  float sigmaLuminance = 2;   // luminance differences in standard deviations (SVGF uses 4; see docs/rendering.md)
   float normalPower = 128;    // SVGF's sigma_n: weight max(0, n_p . n_q)^power
   float sigmaDepth = 1;       // SVGF's sigma_z: depth differences against the gradient's prediction
   float sigmaAlbedo = 0.25f;  // albedo differences (RGB distance) beyond which taps fade
