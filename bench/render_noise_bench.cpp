@@ -2,6 +2,8 @@
 // golden tests: the ball of water in a glass (dielectrics, the table, sphere light and sky) and
 // a wax blob in the lava lamp (a dense scattering medium lit from below).
 //   ./build/bench/render_noise_bench [--ref-spp N] [--ref-dir DIR] [--spp a,b,...] [--set render.KEY=VALUE]...
+//                                    [--denoise iterations|sigma_luminance|normal_power|sigma_depth|sigma_albedo=V]...
+//                                    [--scenes glass,lamp] [--equal-time false]
 // The reference is rendered once with indirect_clamp = 0 (no bias from the clamp) and kept in
 // DIR (default /tmp/mf_noise_ref) as raw floats, so that later renderers are measured against
 // the same image; delete it to render it again. For every spp it prints
@@ -15,17 +17,23 @@
 // then the rel RMSE of the mean of those renders (an unbiased renderer's matches that of one
 // render with all their samples), and, at the first spp, the frame-to-frame change on the static glass scene: the % of pixels
 // that differ by more than 0.016 (idiff, as displayed) between frames 0 and 1.
+// Denoised (render/denoise.h): for every spp the same renders denoised, their rel RMSE and MAE,
+// the render's and the denoiser's wall time; then at equal time, the raw renderer at the spp
+// whose render costs what the render plus the denoiser cost at this spp (the spp scaled by the
+// ratio of the times, rounded), and the ratio of its rel RMSE to the denoised one's.
 // Figures are in docs/rendering.md, with the renderer they belong to.
 #include <fmt/format.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/info.h>
 
 #include <cmath>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "render/denoise.h"
 #include "render/path_tracer.h"
 #include "sim/scene_file.h"
 
@@ -125,6 +133,19 @@ thickness = 0.006
 )";
 
 std::vector<std::string> extraKeys;  // --set KEY=VALUE, for the renders measured (not the reference)
+render::DenoiseSettings denoiseSettings;  // --denoise KEY=VALUE (iterations, sigma_luminance, ...)
+
+void setDenoise(const std::string& kv) {
+  const size_t eq = kv.find('=');
+  const std::string key = kv.substr(0, eq);
+  const float v = eq == std::string::npos ? 0.0f : std::stof(kv.substr(eq + 1));
+  if (key == "iterations") denoiseSettings.iterations = int(v);
+  else if (key == "sigma_luminance") denoiseSettings.sigmaLuminance = v;
+  else if (key == "normal_power") denoiseSettings.normalPower = v;
+  else if (key == "sigma_depth") denoiseSettings.sigmaDepth = v;
+  else if (key == "sigma_albedo") denoiseSettings.sigmaAlbedo = v;
+  else throw std::runtime_error("--denoise: unknown key " + key + " (iterations, sigma_luminance, normal_power, sigma_depth, sigma_albedo)");
+}
 
 /// `animated`: the frame in the sampler's seed, so that frames are independent renders (a
 /// renderer without the animated_seed key keys by frame always).
@@ -207,46 +228,88 @@ render::Image reference(const std::string& name, int spp, const std::string& dir
   return im;
 }
 
+/// `reps` renders of frames 1..reps (animated seeds), raw and (with `denoised`) denoised.
+struct Runs {
+  Error raw, denoised;
+  double renderSeconds = 1e30, denoiseSeconds = 1e30;  // the best of the renders
+  render::Image mean, last, lastDenoised;
+};
+
+Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, bool denoised) {
+  Runs r;
+  r.mean = render::Image(ref.width, ref.height);
+  double mse = 0, dmse = 0;
+  for (int rep = 0; rep < reps; ++rep) {
+    render::RenderStats st;
+    render::Aovs aovs;
+    r.last = tracer.render(rep + 1, &st, {}, nullptr, denoised ? &aovs : nullptr);
+    for (size_t i = 0; i < r.last.rgb.size(); ++i) r.mean.rgb[i] += r.last.rgb[i] / reps;
+    r.renderSeconds = std::min(r.renderSeconds, st.seconds);
+    const Error one = measure(r.last, ref);
+    mse += one.relRmse * one.relRmse / reps, r.raw.black += one.black / reps, r.raw.relMae += one.relMae / reps;
+    if (!denoised) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    r.lastDenoised = render::denoise(r.last, aovs, denoiseSettings);
+    r.denoiseSeconds = std::min(r.denoiseSeconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    const Error d = measure(r.lastDenoised, ref);
+    dmse += d.relRmse * d.relRmse / reps, r.denoised.black += d.black / reps, r.denoised.relMae += d.relMae / reps;
+  }
+  r.raw.relRmse = std::sqrt(mse), r.denoised.relRmse = std::sqrt(dmse);
+  return r;
+}
+
+int repsFor(int spp) { return std::max(1, std::min(64, 512 / spp)); }
+
 }  // namespace
 
 int main(int argc, char** argv) {
   openvdb::initialize();
   int refSpp = 4096;
-  std::string dir = "/tmp/mf_noise_ref", sppList = "8";
+  std::string dir = "/tmp/mf_noise_ref", sppList = "8", sceneList = "glass,lamp";
+  bool equalTime = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--ref-spp") refSpp = std::atoi(argv[i + 1]);
     else if (a == "--ref-dir") dir = argv[i + 1];
     else if (a == "--spp") sppList = argv[i + 1];
+    else if (a == "--scenes") sceneList = argv[i + 1];
+    else if (a == "--equal-time") equalTime = std::string(argv[i + 1]) != "false";
     else if (a == "--set") extraKeys.push_back(argv[i + 1]);
+    else if (a == "--denoise") setDenoise(argv[i + 1]);
   }
   std::vector<int> spps;
   std::stringstream ss(sppList);
   for (std::string t; std::getline(ss, t, ',');) spps.push_back(std::atoi(t.c_str()));
   fmt::print("render_noise_bench: reference {} spp, {} threads\n", refSpp, tbb::info::default_concurrency());
-  for (const std::string name : {"glass", "lamp"}) {
+  std::vector<std::string> names;
+  std::stringstream sl(sceneList);
+  for (std::string t; std::getline(sl, t, ',');) names.push_back(t);
+  for (const std::string& name : names) {
     const render::Image ref = reference(name, refSpp, dir);
     for (int spp : spps) {
       // Rel RMSE and black: over `reps` independent renders (frames 1..reps with animated
       // seeds), as one pixel's firefly moves the figure of a single render by a lot.
-      const int reps = std::max(1, std::min(64, 512 / spp));
+      const int reps = repsFor(spp);
       auto tracer = makeScene(name, spp, false, true);
-      render::RenderStats st;
-      double best = 1e30, mse = 0, black = 0, mae = 0;
-      render::Image x, mean(ref.width, ref.height);
-      for (int rep = 0; rep < reps; ++rep) {
-        x = tracer->render(rep + 1, &st);
-        for (size_t i = 0; i < x.rgb.size(); ++i) mean.rgb[i] += x.rgb[i] / reps;
-        best = std::min(best, st.seconds);
-        const Error one = measure(x, ref);
-        mse += one.relRmse * one.relRmse / reps, black += one.black / reps, mae += one.relMae / reps;
-      }
-      Error e{std::sqrt(mse), black, mae};
+      const Runs r = runs(*tracer, ref, reps, true);
+      const Error& e = r.raw;
       fmt::print("  {:<5} {:>5} spp: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s  ({} renders)\n", name, spp,
-                 e.relRmse, e.relMae, 100 * e.black, best, reps);
+                 e.relRmse, e.relMae, 100 * e.black, r.renderSeconds, reps);
       if (reps > 1)  // unbiased: the mean of the renders has the error of reps * spp samples
-        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(mean, ref).relRmse);
-      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), x);
+        fmt::print("        mean of the {} renders ({} spp): rel RMSE {:.4f}\n", reps, reps * spp, measure(r.mean, ref).relRmse);
+      const Error& d = r.denoised;
+      fmt::print("        denoised: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s + denoiser {:.3f} s\n", d.relRmse,
+                 d.relMae, 100 * d.black, r.renderSeconds, r.denoiseSeconds);
+      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), r.last);
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), r.lastDenoised);
+      // Equal time: raw samples for the render's and the denoiser's time together.
+      if (!equalTime) continue;
+      const int eqSpp = std::max(spp, int(std::lround(spp * (r.renderSeconds + r.denoiseSeconds) / r.renderSeconds)));
+      auto eqTracer = makeScene(name, eqSpp, false, true);
+      const Runs eq = runs(*eqTracer, ref, repsFor(eqSpp), false);
+      fmt::print("        equal time: raw {} spp rel RMSE {:.4f} (time {:.3f} s, {} renders); raw / denoised rel RMSE {:.2f}x"
+                 " (the issue's target: 4x)\n",
+                 eqSpp, eq.raw.relRmse, eq.renderSeconds, repsFor(eqSpp), eq.raw.relRmse / d.relRmse);
     }
   }
   auto glass = makeScene("glass", spps.front(), false);

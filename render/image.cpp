@@ -33,36 +33,62 @@ std::string lowerExtension(const std::string& path) {
 
 }  // namespace
 
-void writeImage(const std::string& path, const Image& image) {
-  const std::string ext = lowerExtension(path);
-  // Encoded in memory, then written by writeFileAtomically: every write, the flush and the close
-  // are checked there, so a full disk never leaves a truncated image under its final name.
+namespace {
+
+/// Encodes with OpenImageIO in memory, then writes by writeFileAtomically: every write, the flush
+/// and the close are checked there, so a full disk never leaves a truncated image under its
+/// final name.
+void encodeAndWrite(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels, OIIO::TypeDesc format) {
   std::vector<unsigned char> encoded;
   OIIO::Filesystem::IOVecOutput memory(encoded);
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw std::runtime_error("cannot write " + path + ": " + OIIO::geterror());
   if (!out->supports("ioproxy") || !out->set_ioproxy(&memory))
-    throw std::runtime_error("cannot write " + path + ": the " + ext + " writer cannot encode to memory");
-  const size_t n = size_t(image.width) * image.height * 3;
-  bool ok = false;
-  if (ext == ".png") {
-    std::vector<unsigned char> bytes(n);
-    for (size_t i = 0; i < n; ++i) bytes[i] = (unsigned char)std::lround(255.0f * linearToSrgb(image.rgb[i]));
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:ColorSpace", "sRGB");
-    ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-  } else {
-    // Half floats: what compositors expect of beauty passes, and half the size.
-    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
-    spec.attribute("oiio:ColorSpace", "Linear");
-    spec.attribute("compression", "zip");
-    spec.attribute("DateTime", "");  // else the current time: equal images must give equal files
-    ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::FLOAT, image.rgb.data());
-  }
+    throw std::runtime_error("cannot write " + path + ": the " + lowerExtension(path) + " writer cannot encode to memory");
+  bool ok = out->open(path, spec) && out->write_image(format, pixels);
   const std::string error = out->geterror();
   ok = out->close() && ok;
   if (!ok || encoded.empty()) throw std::runtime_error("cannot encode " + path + ": " + error);
   writeFileAtomically(path, std::string(encoded.begin(), encoded.end()));
+}
+
+void exrAttributes(OIIO::ImageSpec& spec) {
+  spec.attribute("oiio:ColorSpace", "Linear");
+  spec.attribute("compression", "zip");
+  spec.attribute("DateTime", "");  // else the current time: equal images must give equal files
+}
+
+}  // namespace
+
+void writeImage(const std::string& path, const Image& image) {
+  const size_t n = size_t(image.width) * image.height * 3;
+  if (lowerExtension(path) == ".png") {
+    std::vector<unsigned char> bytes(n);
+    for (size_t i = 0; i < n; ++i) bytes[i] = (unsigned char)std::lround(255.0f * linearToSrgb(image.rgb[i]));
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:ColorSpace", "sRGB");
+    encodeAndWrite(path, spec, bytes.data(), OIIO::TypeDesc::UINT8);
+  } else {
+    // Half floats: what compositors expect of beauty passes, and half the size.
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::HALF);
+    exrAttributes(spec);
+    encodeAndWrite(path, spec, image.rgb.data(), OIIO::TypeDesc::FLOAT);
+  }
+}
+
+void writeExrChannels(const std::string& path, int width, int height, const std::vector<std::string>& names,
+                      const std::vector<float>& data, const std::vector<bool>& fullFloat) {
+  const int channels = int(names.size());
+  if (data.size() != size_t(width) * height * channels || fullFloat.size() != names.size())
+    throw std::logic_error("writeExrChannels: " + path + ": data and channel names disagree");
+  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::HALF);
+  spec.channelnames = names;
+  spec.channelformats.clear();
+  for (int c = 0; c < channels; ++c) spec.channelformats.push_back(fullFloat[c] ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::HALF);
+  for (int c = 0; c < channels; ++c)
+    if (names[c] == "Z") spec.z_channel = c;
+  exrAttributes(spec);
+  encodeAndWrite(path, spec, data.data(), OIIO::TypeDesc::FLOAT);
 }
 
 Image readImage(const std::string& path) {
@@ -70,6 +96,18 @@ Image readImage(const std::string& path) {
   if (!in) throw std::runtime_error("cannot read image " + path + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.nchannels < 3) throw std::runtime_error(path + ": expected an RGB image");
+  // The beauty by name where the file has R, G and B (a multi-layer frame keeps AOVs beside it,
+  // in an order of the format's choosing); else the first three channels.
+  int rgb[3] = {0, 1, 2};
+  const char* names[3] = {"R", "G", "B"};
+  for (int c = 0; c < 3; ++c) {
+    const int at = spec.channelindex(names[c]);
+    if (at < 0) {
+      rgb[0] = 0, rgb[1] = 1, rgb[2] = 2;
+      break;
+    }
+    rgb[c] = at;
+  }
   Image image(spec.width, spec.height);
   std::vector<float> all(size_t(spec.width) * spec.height * spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, all.data()))
@@ -77,7 +115,7 @@ Image readImage(const std::string& path) {
   const bool srgb = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   for (size_t p = 0; p < size_t(spec.width) * spec.height; ++p)
     for (int c = 0; c < 3; ++c) {
-      const float v = all[p * spec.nchannels + c];
+      const float v = all[p * spec.nchannels + rgb[c]];
       image.rgb[p * 3 + c] = srgb ? srgbToLinear(v) : v;
     }
   in->close();

@@ -28,7 +28,12 @@ struct Image {
 
 /// Writes by extension: .exr (linear, half float) or .png (sRGB, 8 bit, clamped).
 void writeImage(const std::string& path, const Image& image);
-/// Reads any format OpenImageIO knows as linear RGB (PNG is converted from sRGB).
+/// A multi-channel EXR (zip): channel c of pixel p is data[p * names.size() + c]; half floats
+/// but for the channels whose `fullFloat` is set. Written under a temporary name and renamed.
+void writeExrChannels(const std::string& path, int width, int height, const std::vector<std::string>& names,
+                      const std::vector<float>& data, const std::vector<bool>& fullFloat);
+/// Reads any format OpenImageIO knows as linear RGB (PNG is converted from sRGB). Of a
+/// multi-layer EXR, the channels named R, G and B (the beauty).
 Image readImage(const std::string& path);
 
 /// Per-pixel comparison in the manner of OpenImageIO's idiff (as Cycles' render tests use it):

@@ -159,6 +159,8 @@ struct PathTracer::Impl {
   // that close, so the same hits survive as with the filter); only the others need the filter.
   std::vector<std::vector<uint8_t>> nearOther;
   Vec3 camU, camV, camW;  // right, up, forward
+  std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
+  std::vector<int> maskOf;             // per geometry: its index in maskNames, -1 for solids
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -204,6 +206,14 @@ struct PathTracer::Impl {
       triNormals[g].resize(m.triangles.size());
       for (size_t i = 0; i < m.triangles.size(); ++i)
         for (int k = 0; k < 3; ++k) triNormals[g][i][k] = m.normals[m.triangles[i][k]];
+    }
+    for (const Surface& sf : surfaces) {
+      int m = -1;
+      if (!sf.solid) {
+        m = int(std::find(maskNames.begin(), maskNames.end(), sf.name) - maskNames.begin());
+        if (m == int(maskNames.size())) maskNames.push_back(sf.name);
+      }
+      maskOf.push_back(m);
     }
     camW = unit(settings.lookAt - settings.cameraPosition);
     camU = unit(cross(camW, Vec3{0, 1, 0}));
@@ -449,9 +459,31 @@ struct PathTracer::Impl {
     return mul(T, settings.lightEmission) * (weight * lobe / pdf);
   }
 
+  /// The AOVs' view of a hit on the specular chain: the first one's distance and normal (facing
+  /// the camera), and the first fluid surface met.
+  void recordHit(const Hit& h, const Vec3& d, bool& primary, PrimarySample& first) const {
+    if (primary) {
+      primary = false;
+      if (h.kind != Hit::None) {
+        first.depth = h.t;
+        Vec3 n = h.kind == Hit::Light ? unit(h.p - settings.lightPosition) : h.ns;
+        first.normal = dot(n, d) > 0 ? -n : n;
+      }
+    }
+    if (h.kind == Hit::Mesh && first.mask < 0) first.mask = maskOf[h.material];
+  }
+
   /// `h`, `shadow`: scratch hits (the caller's, so that they are not cleared for every path).
-  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow) const {
+  /// `first`: where to record the primary hit and the specular chain's albedo and fluid (AOVs);
+  /// recording draws no samples, so the path is the same with or without.
+  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow,
+             PrimarySample* first = nullptr) const {
     Vec3 L, throughput{1, 1, 1};
+    bool primary = first != nullptr;  // the next hit is the camera ray's
+    bool chain = first != nullptr;    // no diffuse or scattering vertex yet (the albedo is open)
+    auto closeChain = [&](const Vec3& albedo) {
+      if (chain) first->albedo = albedo, chain = false;
+    };
     MediumStack stack;
     bool lightCounted = false;  // a direct-light estimate already covered this path's next light hit
     bool indirect = false;      // past a diffuse or scattering vertex
@@ -480,6 +512,7 @@ struct PathTracer::Impl {
     while (bounces < settings.maxDepth) {
       smp.startBounce(bounces);
       intersect(o, d, 1e30, leaving, leavingPrim, rays, record, h);
+      if (chain) recordHit(h, d, primary, *first);
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
@@ -492,6 +525,11 @@ struct PathTracer::Impl {
             throughput = mul(throughput, expNeg(m.absorption, flight - done));
             add(mul(throughput, m.emission) * (flight - done));
             const Vec3 p = start + d * flight;
+            // The medium's single-scattering albedo: the colour each scattering keeps.
+            if (chain) {
+              const Real ss = m.scattering;
+              closeChain({ss / (ss + m.absorption.x), ss / (ss + m.absorption.y), ss / (ss + m.absorption.z)});
+            }
             Real u1, u2;
             smp.next2D(u1, u2);
             add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, rays, record, shadow)));
@@ -514,10 +552,12 @@ struct PathTracer::Impl {
         }
       }
       if (h.kind == Hit::None) {
+        closeChain({1, 1, 1});
         add(mul(throughput, sky(d)));
         break;
       }
       if (h.kind == Hit::Light) {
+        closeChain({1, 1, 1});
         if (misOpen) {  // the light sample at misVertex could have found this path too
           const Real w = settings.mis ? powerHeuristic(misLobePdf, lightPdf(misVertex)) : 0;
           if (w > 0) add(mul(throughput, settings.lightEmission) * w, false);
@@ -529,11 +569,13 @@ struct PathTracer::Impl {
       misOpen = false;  // any surface ends what the light sample could have seen
       const MaterialSpec* m = h.kind == Hit::Mesh ? &materials[h.material] : nullptr;
       if (m && m->kind == MaterialSpec::Kind::Emitter) {
+        closeChain({1, 1, 1});
         add(mul(throughput, m->emission));
         break;
       }
       if (!m || m->kind == MaterialSpec::Kind::Diffuse) {  // the table, or a diffuse mesh
         const Vec3 albedo = m ? m->colour : floorAlbedo(h.p);
+        closeChain(albedo);
         if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
         add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, rays, record, shadow)), false);
         leaving = m ? h.material : -1;
@@ -665,11 +707,14 @@ size_t PathTracer::triangleCount() const {
   return n;
 }
 
+std::vector<std::string> PathTracer::maskNames() const { return impl_->maskNames; }
+
 Image PathTracer::render(int frame, RenderStats* stats, const std::function<void(int, int)>& progress,
-                         std::vector<RecordedRay>* record) const {
+                         std::vector<RecordedRay>* record, Aovs* aovs) const {
   const Impl& im = *impl_;
   const RenderSettings& s = im.settings;
   Image image(s.width, s.height);
+  if (aovs) *aovs = Aovs(s.width, s.height, im.maskNames);
   const auto t0 = Clock::now();
   tbb::combinable<uint64_t> rays([] { return uint64_t(0); });
   tbb::combinable<std::vector<RecordedRay>> recorded;
@@ -684,6 +729,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < s.width; ++x) {
         Vec3 sum;
+        AovPixel aov(aovs ? im.maskNames.size() : 0);
         // The frame is part of the pixel's seed only with animated_seed (see docs/rendering.md).
         const uint64_t seed = Sampler::pixelSeed(x, y, s.animatedSeed ? uint64_t(frame) + 1 : 0);
         for (int k = 0; k < s.samples; ++k) {
@@ -693,11 +739,14 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           const Real px = (2 * (x + jx) / s.width - 1) * tanHalf * aspect;
           const Real py = (1 - 2 * (y + jy) / s.height) * tanHalf;
           const Vec3 d = unit(im.camW + im.camU * px + im.camV * py);
-          Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow);
+          PrimarySample first;
+          Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow, aovs ? &first : nullptr);
           if (!isFinite(c)) c = {};
           sum += c;
+          if (aovs) aov.add(first, c);
         }
         image.set(x, y, sum / Real(s.samples));
+        if (aovs) aov.store(*aovs, x, y);
       }
       const int done = ++rowsDone;
       if (progress) {

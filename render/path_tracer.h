@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "aov.h"
 #include "geometry.h"
 #include "image.h"
 #include "sim/scene.h"
@@ -46,10 +47,14 @@ class PathTracer {
   PathTracer& operator=(const PathTracer&) = delete;
 
   /// Renders the image. `progress(done, total)` is called now and then with completed rows
-  /// (from any thread, serialised). `record`: keep every ray cast (for benchmarks).
+  /// (from any thread, serialised). `record`: keep every ray cast (for benchmarks). `aovs`: also
+  /// the primary hits' buffers (render/aov.h; the image's bits are the same with or without).
   Image render(int frame, RenderStats* stats = nullptr,
                const std::function<void(int, int)>& progress = {},
-               std::vector<RecordedRay>* record = nullptr) const;
+               std::vector<RecordedRay>* record = nullptr, Aovs* aovs = nullptr) const;
+
+  /// The fluids' names, one per mask channel of the AOVs: the surfaces that are not solids.
+  std::vector<std::string> maskNames() const;
 
   /// The fraction of pixels whose centre ray, followed straight through every surface that
   /// `counts` rejects (glass walls), meets one it accepts: what a frame shows of the fluid.

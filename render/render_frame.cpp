@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "aov.h"
+#include "denoise.h"
 #include "path_tracer.h"
 #include "sim/vdb_file.h"
 
@@ -88,12 +90,21 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   result.fluidCoverage = tracer.coverage([](const Surface& s) { return !s.solid; });
   if (coverageOnly) return result;
   RenderStats stats;
-  const Image image = tracer.render(frame, &stats, progress);
+  Aovs aovs;
+  const Image noisy = tracer.render(frame, &stats, progress, nullptr, &aovs);
   result.rays = stats.rays;
   result.seconds = stats.seconds;
+  Image image = noisy;
+  if (scene.render.denoise) {
+    const auto td = std::chrono::steady_clock::now();
+    DenoiseSettings ds;
+    ds.iterations = scene.render.denoiseIterations;
+    image = denoise(noisy, aovs, ds);
+    result.denoiseSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count();
+  }
   if (!exrPath.empty()) {
     fs::create_directories(fs::path(exrPath).parent_path());
-    writeImage(exrPath, image);
+    writeFrameExr(exrPath, image, scene.render.denoise ? &noisy : nullptr, aovs);
   }
   if (!pngPath.empty()) {
     fs::create_directories(fs::path(pngPath).parent_path());

@@ -1,5 +1,7 @@
 // One frame through the render stage: the surface file's level sets (and the scene's solids) in,
-// a linear EXR and an sRGB PNG out. Frame N needs only surface.N.vdb and the scene.
+// a multi-layer linear EXR (beauty and AOVs, render/aov.h) and an sRGB PNG out; with
+// render.denoise both show the denoised beauty (render/denoise.h), and the EXR keeps the noisy
+// one as beauty_noisy. Frame N needs only surface.N.vdb and the scene.
 #pragma once
 
 #include <functional>
@@ -13,6 +15,7 @@ struct RenderFrameResult {
   bool skipped = false;   // both images already there
   uint64_t rays = 0;
   double seconds = 0;     // tracing only
+  double denoiseSeconds = 0;  // the denoiser (render.denoise)
   double setupSeconds = 0;  // reading, meshing, building the BVH
   size_t triangles = 0;
   double fluidCoverage = 0;  // fraction of pixels that show a fluid surface (PathTracer::coverage)

@@ -221,6 +221,8 @@ struct RenderSettings {
   bool sobol = true;                // Owen-scrambled Sobol samples (false: independent random ones)
   bool mis = true;                  // light samples and lobe samples weighted by the power heuristic
   bool animatedSeed = false;        // the frame in the sampler's seed (noise changes every frame)
+  bool denoise = true;              // the shipped frame filtered by render/denoise.h (the noisy one kept in the EXR)
+  int denoiseIterations = 5;        // its à-trous passes (the filter spans 4 (2^n - 1) + 1 pixels)
   std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
   Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
   Real fov = 40;                    // vertical, degrees

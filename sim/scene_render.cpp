@@ -126,6 +126,8 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.sobol = t.boolean("sobol", o.sobol);
   o.mis = t.boolean("mis", o.mis);
   o.animatedSeed = t.boolean("animated_seed", o.animatedSeed);
+  o.denoise = t.boolean("denoise", o.denoise);
+  o.denoiseIterations = t.integer("denoise_iterations", o.denoiseIterations, 1, 8, "passes");
   if (t.has("phases")) {
     const toml::node* pn = t.node("phases");
     const toml::array* pa = pn->as_array();

@@ -1,0 +1,62 @@
+// Arbitrary output variables of the path tracer's primary hits, for the denoiser
+// (render/denoise.h) and for compositing: per pixel, averaged over its samples.
+//   albedo  the colour the pixel's light was reflected by: the first diffuse surface or
+//           scattering medium along the camera path's specular chain (glass and clear liquid are
+//           followed through, as Open Image Denoise asks of its albedo input); 1 where the chain
+//           ends on the sky, the lamp or an emitter. The denoiser divides it out.
+//   normal  the primary hit's shading normal, facing the camera, unit length (0 on the sky)
+//   depth   the primary hit's distance from the camera, m (+inf where every sample saw the sky)
+//   mask    per fluid: the fraction of samples whose specular chain met that fluid's surface
+//           before any diffuse or scattering vertex (through glass walls, in reflections)
+//   variance the variance of the pixel's mean luminance, from its samples (SVGF's guide)
+// Written with the beauty as one multi-layer EXR (writeFrameExr).
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "image.h"
+
+namespace mf::render {
+
+struct Aovs {
+  int width = 0, height = 0;
+  std::vector<float> albedo, normal;  // 3 per pixel
+  std::vector<float> depth, variance;  // 1 per pixel
+  std::vector<std::string> maskNames;  // one per fluid
+  std::vector<float> mask;             // maskNames.size() per pixel
+
+  Aovs() = default;
+  Aovs(int w, int h, std::vector<std::string> masks);
+  size_t pixels() const { return size_t(width) * height; }
+};
+
+/// What one camera sample recorded at its primary hit and along its specular chain.
+struct PrimarySample {
+  Vec3 albedo{1, 1, 1};
+  Vec3 normal;         // 0: the sky
+  double depth = -1;   // < 0: the sky
+  int mask = -1;       // index into Aovs::maskNames, -1: no fluid met
+};
+
+/// Sums a pixel's samples in order (the same bits on any thread count) and writes the means.
+class AovPixel {
+ public:
+  explicit AovPixel(size_t masks) : mask_(masks, 0.0) {}
+  void add(const PrimarySample& s, const Vec3& radiance);
+  void store(Aovs& out, int x, int y) const;
+
+ private:
+  size_t n_ = 0, hits_ = 0;
+  Vec3 albedo_, normal_;
+  double depth_ = 0, lum_ = 0, lum2_ = 0;
+  std::vector<double> mask_;
+};
+
+/// The frame as one EXR: R,G,B (the image shipped: denoised where `noisy` is given),
+/// beauty_noisy.R/G/B (the path tracer's own, when given), albedo.R/G/B, N.X/Y/Z, Z (float) and
+/// mask.<fluid>; half floats otherwise, zip. Written under a temporary name and renamed.
+void writeFrameExr(const std::string& path, const Image& beauty, const Image* noisy, const Aovs& aovs);
+
+}  // namespace mf::render
