@@ -517,7 +517,7 @@ std::vector<Problem> problems(bool quick) {
               "Heavy fluid (1000 kg/m^3) above light (500 kg/m^3), 6 cm each in a 0.1 x 0.2 x 0.06 m box, "
               "k = 200 for WCSPH, mu = 0.5 Pa s, jitter 0.1 spacing; variants: `density_formulation` mass (eq. 1) or "
               "number, for both solvers (DFSPH's constraint is the density contrast either way, but the density "
-              "field its watchdog and other forces read follows the formulation).",
+              "field its watchdog and its implicit viscosity read follows the formulation).",
               {"heavy_wrong_fraction", "light_wrong_fraction"}, {}, runLayered, -1, "", ""};
     auto add = [&](double s, double f) {
       for (const auto& solver : solvers)

@@ -150,7 +150,7 @@ std::vector<Case> cases(const Options& opt) {
   std::string solver, family;  // of the cases `add` makes
   auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
                  const std::string& text, std::vector<std::string> sets, bool closed = true) {
-    if (!opt.selected(sweep) && !opt.selected(family) && !opt.selected(solver)) return;
+    if (!opt.selected(sweep) && !opt.selected(family)) return;  // --only stiffness: DFSPH's stand-in too
     sets.push_back("solver.pressure=" + solver);
     list.push_back({solver, family, sweep, label, parameter, value,
                     parseScene(text, "<report:" + sweep + ">", sets), closed});
@@ -177,7 +177,7 @@ std::vector<Case> cases(const Options& opt) {
   both("density_ratio", [&](bool) {
     // Rest-density ratio of two layers, with each density formulation. DFSPH's constraint is the
     // density contrast whatever the formulation, but the density field the watchdog and the
-    // other forces read follows it, so DFSPH runs both too.
+    // implicit viscosity read follows it, so DFSPH runs both too.
     for (double r : q ? std::vector<double>{100} : std::vector<double>{1, 10, 100, 1000})
       for (const char* f : {"mass", "number"})
         add("density_ratio", fmt::format("1:{:g} {}", r, f), "rest-density ratio", r, layersText(r, f, end), {});
@@ -413,8 +413,11 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       "the `stiffness` sweep it sweeps `solver.density_tolerance` (the mean density error its constant-density "
       "solve stops at, default 5e-4; at most `solver.max_pressure_iterations` = 100 iterations). Its `solver.cfl` "
       "bounds the flow, dt <= cfl spacing / v_max (WCSPH's: dt <= cfl h / (sqrt(k) + v_max)). `density_ratio` "
-      "runs once for DFSPH: `density_formulation` is the density WCSPH's state equation reads, while DFSPH's "
-      "constraint is the density contrast sum_j V_j W_ij for either formulation.\n\n"
+      "runs both formulations on DFSPH too (`density_formulation` is the density WCSPH's state equation reads; DFSPH's "
+      "constraint is the density contrast sum_j V_j W_ij for either formulation, but the density field its "
+      "watchdog and its implicit viscosity read follows the formulation, so both run). Outside `dt_factor` the cases keep "
+      "the default `solver.max_dt` = 1 ms, which is what sets DFSPH's step there; `dt_factor` lifts it to 10 ms "
+      "for both solvers.\n\n"
       "**Columns**: `status` is `stable` (ran to the end, nothing retried), `recovered` (ran to the end; the "
       "watchdog retried steps with half the dt), `stopped` (the watchdog gave up after `solver.max_retries` "
       "halvings and threw its message, quoted below) or `lost particles` (particles left the domain); `stable` "
