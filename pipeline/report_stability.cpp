@@ -1,7 +1,8 @@
 // `report stability`: sweeps over stiff and extreme settings. Each case is a short run; the
 // simulator's own watchdog (Simulation::step) decides what happens to a bad step, and the report
 // records whether the run got through, how compressed and how energetic it became, when trouble
-// started and what the watchdog did about it.
+// started and what the watchdog did about it. Every sweep runs with both pressure solvers; where
+// a WCSPH parameter has no DFSPH meaning (stiffness), DFSPH sweeps its own (density_tolerance).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -25,6 +26,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kEnergyGrowthLimit = 0.05;  // flagged: a closed, viscous box should only lose energy
 
 struct Case {
+  std::string solver;  // solver.pressure
+  std::string family;  // the WCSPH sweep this one stands beside (plots pair them in one row)
   std::string sweep, label, parameter;
   double value = 0;
   Scene scene;
@@ -142,47 +145,78 @@ rate = 5.0
 std::vector<Case> cases(const Options& opt) {
   const double end = opt.quick ? 0.1 : 0.3;
   const std::string drop = closedBoxScene(false, 1, 0.01, end);
-  std::vector<Case> list;
-  auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
-                 const std::string& text, const std::vector<std::string>& sets, bool closed = true) {
-    if (!opt.selected(sweep)) return;
-    list.push_back({sweep, label, parameter, value, parseScene(text, "<report:" + sweep + ">", sets), closed});
-  };
   const bool q = opt.quick;
-  // Stiffness k of the drop, from soft to 100 times the default (1000 m^2/s^2).
-  for (double k : q ? std::vector<double>{10, 1000} : std::vector<double>{10, 100, 400, 1000, 10000, 100000})
-    add("stiffness", fmt::format("k={:g}", k), "phase.water.stiffness", k, drop, {"phase.water.stiffness=" + tomlReal(k)});
-  // Rest-density ratio of two layers, with each density formulation.
-  for (double r : q ? std::vector<double>{100} : std::vector<double>{1, 10, 100, 1000})
-    for (const char* f : {"mass", "number"})
-      add("density_ratio", fmt::format("1:{:g} {}", r, f), "rest-density ratio", r, layersText(r, f, end), {});
-  // Viscosity mu, from none to lava-like (basalt 100 - 1000 Pa s).
-  for (double mu : q ? std::vector<double>{1000} : std::vector<double>{0, 0.01, 0.1, 1, 10, 100, 1000})
-    add("viscosity", fmt::format("mu={:g}", mu), "phase.water.viscosity", mu, drop, {"phase.water.viscosity=" + tomlReal(mu)});
-  // Time-step factor f: cfl = 0.4 f (the acoustic CFL limit is cfl = 1), force_factor = 0.25 f;
-  // max_dt raised so that it does not cap the step; last, the largest with retries forbidden.
-  auto dtSets = [](double f) {
-    return std::vector<std::string>{"solver.cfl=" + tomlReal(std::min(10.0, 0.4 * f)),
-                                    "solver.force_factor=" + tomlReal(0.25 * f), "solver.max_dt=0.01"};
+  std::vector<Case> list;
+  std::string solver, family;  // of the cases `add` makes
+  auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
+                 const std::string& text, std::vector<std::string> sets, bool closed = true) {
+    if (!opt.selected(sweep) && !opt.selected(family)) return;  // --only stiffness: DFSPH's stand-in too
+    sets.push_back("solver.pressure=" + solver);
+    list.push_back({solver, family, sweep, label, parameter, value,
+                    parseScene(text, "<report:" + sweep + ">", sets), closed});
   };
-  for (double f : q ? std::vector<double>{25} : std::vector<double>{0.5, 1, 2, 5, 10, 25})
-    add("dt_factor", fmt::format("f={:g}", f), "time-step factor", f, drop, dtSets(f));
-  {
+  // Each family of sweeps once per solver, WCSPH first, so that tables list the two side by side.
+  auto both = [&](const std::string& name, const std::function<void(bool dfsph)>& sweepsOf) {
+    family = name;
+    for (const char* s : {"wcsph", "dfsph"}) solver = s, sweepsOf(solver == "dfsph");
+  };
+  both("stiffness", [&](bool dfsph) {
+    if (!dfsph) {
+      // Stiffness k of the drop, from soft to 100 times the default (1000 m^2/s^2).
+      for (double k : q ? std::vector<double>{10, 1000} : std::vector<double>{10, 100, 400, 1000, 10000, 100000})
+        add("stiffness", fmt::format("k={:g}", k), "phase.water.stiffness", k, drop, {"phase.water.stiffness=" + tomlReal(k)});
+      return;
+    }
+    // DFSPH has no stiffness: how incompressible it is comes from the solve's tolerance on the
+    // mean density error (default 5e-4), from loose (5 %) to tight (1e-5); the solve gives up
+    // after solver.max_pressure_iterations (100), and a step it leaves unconverged is retried.
+    for (double tol : q ? std::vector<double>{0.05, 5e-4} : std::vector<double>{0.05, 0.01, 1e-3, 5e-4, 1e-4, 1e-5})
+      add("density_tolerance", fmt::format("tol={:g}", tol), "solver.density_tolerance", tol, drop,
+          {"solver.density_tolerance=" + tomlReal(tol)});
+  });
+  both("density_ratio", [&](bool) {
+    // Rest-density ratio of two layers, with each density formulation. DFSPH's constraint is the
+    // density contrast whatever the formulation, but the density field the watchdog and the
+    // implicit viscosity read follows it, so DFSPH runs both too.
+    for (double r : q ? std::vector<double>{100} : std::vector<double>{1, 10, 100, 1000})
+      for (const char* f : {"mass", "number"})
+        add("density_ratio", fmt::format("1:{:g} {}", r, f), "rest-density ratio", r, layersText(r, f, end), {});
+  });
+  both("viscosity", [&](bool) {
+    // Viscosity mu, from none to lava-like (basalt 100 - 1000 Pa s); DFSPH integrates it
+    // implicitly, WCSPH explicitly under its viscous time-step limit.
+    for (double mu : q ? std::vector<double>{1000} : std::vector<double>{0, 0.01, 0.1, 1, 10, 100, 1000})
+      add("viscosity", fmt::format("mu={:g}", mu), "phase.water.viscosity", mu, drop, {"phase.water.viscosity=" + tomlReal(mu)});
+  });
+  both("dt_factor", [&](bool) {
+    // Time-step factor f: cfl = 0.4 f, force_factor = 0.25 f; max_dt raised so that it does not
+    // cap the step; last, the largest with retries forbidden. WCSPH's acoustic CFL limit is
+    // cfl = 1; DFSPH's cfl is the fraction of a spacing the fastest particle moves per step.
+    auto dtSets = [](double f) {
+      return std::vector<std::string>{"solver.cfl=" + tomlReal(std::min(10.0, 0.4 * f)),
+                                      "solver.force_factor=" + tomlReal(0.25 * f), "solver.max_dt=0.01"};
+    };
+    for (double f : q ? std::vector<double>{25} : std::vector<double>{0.5, 1, 2, 5, 10, 25})
+      add("dt_factor", fmt::format("f={:g}", f), "time-step factor", f, drop, dtSets(f));
     auto sets = dtSets(25);
     sets.push_back("solver.max_retries=0");
     add("dt_factor", "f=25 no retries", "time-step factor", 25, drop, sets);
-  }
-  // Temperature range between the heating and the cooling source.
-  for (double dT : q ? std::vector<double>{1000} : std::vector<double>{0, 10, 100, 1000, 5000})
-    add("temperature", fmt::format("dT={:g}", dT), "temperature range (K)", dT, temperatureText(dT, end), {}, false);
-  // Particle spacing: 2 to 20 particles across the 0.1 m block, then the same 10 across at
-  // 1 mm and at 10 m (Froude-scaled; stiffness unchanged).
-  for (double s : q ? std::vector<double>{0.05} : std::vector<double>{0.05, 0.025, 0.01, 0.005})
-    add("spacing", fmt::format("s={:g}m", s), "solver.particle_spacing", s, closedBoxScene(false, 1, s, end), {});
-  if (!q)
-    for (double scale : {0.01, 100.0})
-      add("spacing", fmt::format("s={:g}m (scene x{:g})", 0.01 * scale, scale), "solver.particle_spacing",
-          0.01 * scale, closedBoxScene(false, scale, 0.01 * scale, end), {});
+  });
+  both("temperature", [&](bool) {
+    // Temperature range between the heating and the cooling source.
+    for (double dT : q ? std::vector<double>{1000} : std::vector<double>{0, 10, 100, 1000, 5000})
+      add("temperature", fmt::format("dT={:g}", dT), "temperature range (K)", dT, temperatureText(dT, end), {}, false);
+  });
+  both("spacing", [&](bool) {
+    // Particle spacing: 2 to 20 particles across the 0.1 m block, then the same 10 across at
+    // 1 mm and at 10 m (Froude-scaled; stiffness unchanged).
+    for (double s : q ? std::vector<double>{0.05} : std::vector<double>{0.05, 0.025, 0.01, 0.005})
+      add("spacing", fmt::format("s={:g}m", s), "solver.particle_spacing", s, closedBoxScene(false, 1, s, end), {});
+    if (!q)
+      for (double scale : {0.01, 100.0})
+        add("spacing", fmt::format("s={:g}m (scene x{:g})", 0.01 * scale, scale), "solver.particle_spacing",
+            0.01 * scale, closedBoxScene(false, scale, 0.01 * scale, end), {});
+  });
   return list;
 }
 
@@ -196,17 +230,32 @@ std::string classify(const Outcome& o) {
   return o.retries > 0 ? "recovered" : "stable";
 }
 
+// WCSPH: mechanicalEnergy's kinetic + gravitational + elastic energy of its state equation.
+// DFSPH has no state equation and so stores no elastic energy (its pressure is a constraint
+// force): kinetic + gravitational alone; the phase's stiffness, unused by DFSPH, must not count.
+double energyOf(const Simulation& sim) {
+  if (sim.scene().solver.pressure == PressureSolverChoice::WCSPH) return mechanicalEnergy(sim);
+  const ParticleSet& ps = sim.particles();
+  const Vec3 g = gravityOf(sim.scene());
+  const double floorY = floorHeightOf(sim.scene());
+  double e = 0;
+  for (size_t i = 0; i < ps.size(); ++i)
+    e += ps.mass[i] * (0.5 * lengthSquared(ps.velocity[i]) -
+                       (g.x * ps.position[i].x + g.y * (ps.position[i].y - floorY) + g.z * ps.position[i].z));
+  return e;
+}
+
 Outcome runOne(const Case& c) {
   Outcome o;
   const auto t0 = Clock::now();
   const double cpu0 = processCpuSeconds();
   Simulation sim(c.scene);
   o.particles = sim.particles().size();
-  const double e0 = mechanicalEnergy(sim);
+  const double e0 = energyOf(sim);
   double eMax = e0;
   try {
     sim.advanceTo(c.scene.endTime, [&](const Simulation& s) {
-      eMax = std::max(eMax, mechanicalEnergy(s));
+      eMax = std::max(eMax, energyOf(s));
       if (o.troubleStep < 0 && s.counters().retries > 0) {
         o.troubleStep = int64_t(s.stepCount()) - 1;  // the step just taken needed a retry
         o.troubleTime = s.time();
@@ -219,7 +268,7 @@ Outcome runOne(const Case& c) {
   }
   o.wall = secondsSince(t0);
   o.cpu = processCpuSeconds() - cpu0;
-  const double e1 = mechanicalEnergy(sim);
+  const double e1 = energyOf(sim);
   o.steps = sim.stepCount();
   o.retries = sim.counters().retries;
   o.lost = sim.counters().removedOutOfDomain;
@@ -235,13 +284,13 @@ Outcome runOne(const Case& c) {
 
 Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   Table t;
-  t.header = {"sweep", "case", "parameter", "value", "particles", "end_time_s", "status", "stable", "steps", "retries",
+  t.header = {"solver", "sweep", "case", "parameter", "value", "particles", "end_time_s", "status", "stable", "steps", "retries",
               "first_trouble_step", "first_trouble_time_s", "max_density_error", "energy_drift", "energy_growth_max",
               "lost_particles", "wall_s", "cpu_s", "message"};
   for (size_t k = 0; k < cs.size(); ++k) {
     const Case& c = cs[k];
     const Outcome& o = os[k];
-    t.add({c.sweep, c.label, c.parameter, fmtNumber(c.value, 6), std::to_string(o.particles), fmtNumber(c.scene.endTime, 4),
+    t.add({c.solver, c.sweep, c.label, c.parameter, fmtNumber(c.value, 6), std::to_string(o.particles), fmtNumber(c.scene.endTime, 4),
            o.status, o.stable() ? "yes" : "no", std::to_string(o.steps), std::to_string(o.retries),
            o.troubleStep < 0 ? "-" : std::to_string(o.troubleStep), fmtNumber(o.troubleTime, 4),
            fmtNumber(o.maxDensityError, 3), fmtNumber(o.drift, 3), fmtNumber(o.growth, 3), std::to_string(o.lost),
@@ -257,12 +306,15 @@ struct Figure {
   std::function<double(const Outcome&)> value;
 };
 
-// One panel per sweep, every case coloured by its outcome (stopped runs as crosses).
+// One row of panels per family of sweeps, one column per solver (WCSPH left, DFSPH right), every
+// case coloured by its outcome (stopped runs as crosses).
 std::string figureScript(const Figure& f, const std::vector<Case>& cs, const std::vector<Outcome>& os) {
-  std::vector<std::string> sweeps;
-  for (const auto& c : cs)
-    if (std::find(sweeps.begin(), sweeps.end(), c.sweep) == sweeps.end()) sweeps.push_back(c.sweep);
-  const int cols = sweeps.size() > 1 ? 2 : 1, rows = int((sweeps.size() + 1) / size_t(cols));
+  std::vector<std::string> families, solvers;
+  for (const auto& c : cs) {
+    if (std::find(families.begin(), families.end(), c.family) == families.end()) families.push_back(c.family);
+    if (std::find(solvers.begin(), solvers.end(), c.solver) == solvers.end()) solvers.push_back(c.solver);
+  }
+  const int cols = int(solvers.size()), rows = int(families.size());
   std::string s = fmt::format(R"gp(set terminal pngcairo size {},{} noenhanced font "sans,9"
 set output "{}.png.tmp"
 set multiplot layout {},{} title "{}\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
@@ -275,11 +327,13 @@ set ylabel "{}"
                               cols * 550, rows * 380, f.name, rows, cols, escapeGnuplot(f.title), f.ymin, f.ymax,
                               escapeGnuplot(f.ylabel));
   if (f.reference > 0) s += fmt::format("set arrow from graph 0, first {0} to graph 1, first {0} nohead dt 2 lc rgb \"#555555\"\n", f.reference);
-  for (const auto& sweep : sweeps) {
-    std::string data, tics;
+  for (const auto& family : families)
+    for (const auto& solver : solvers) {
+    std::string data, tics, sweep;
     int x = 0;
     for (size_t k = 0; k < cs.size(); ++k) {
-      if (cs[k].sweep != sweep) continue;
+      if (cs[k].family != family || cs[k].solver != solver) continue;
+      sweep = cs[k].sweep;
       const Outcome& o = os[k];
       const int colour = o.stable() ? (o.retries > 0 ? 0xff7f0e : 0x2ca02c) : 0xd62728;
       const double y = std::min(f.ymax, std::max(f.ymin, f.value(o)));
@@ -288,9 +342,13 @@ set ylabel "{}"
       tics += fmt::format("{}\"{}\" {}", tics.empty() ? "" : ", ", escapeGnuplot(cs[k].label), x);
       ++x;
     }
-    s += fmt::format("set title \"{}\"\nset xrange [-0.5:{}]\nset xtics ({})\n", sweep, x - 0.5, tics);
+    if (x == 0) {  // this family has no case of this solver (--only): leave its panel empty
+      s += "set multiplot next\n";
+      continue;
+    }
+    s += fmt::format("set title \"{}: {}\"\nset xrange [-0.5:{}]\nset xtics ({})\n", solver, sweep, x - 0.5, tics);
     s += "plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle\n" + data + "e\n";
-  }
+    }
   return s + "unset multiplot\n";
 }
 
@@ -308,13 +366,14 @@ std::vector<Figure> figures(double watchdogLimit) {
 std::string limits(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   std::string out;
   std::string current;
+  auto key = [&](size_t k) { return cs[k].solver + " " + cs[k].sweep; };
   for (size_t k = 0; k < cs.size(); ++k) {
-    if (cs[k].sweep == current) continue;
-    current = cs[k].sweep;
+    if (key(k) == current) continue;
+    current = key(k);
     std::vector<std::string> good, bad, grew;
     std::string firstBad;
     for (size_t j = k; j < cs.size(); ++j) {
-      if (cs[j].sweep != current) continue;
+      if (key(j) != current) continue;
       const std::string item = cs[j].label + (os[j].retries > 0 && os[j].stable() ? " (with retries)" : "");
       (os[j].stable() ? good : bad).push_back(os[j].stable() ? item : cs[j].label + ": " + os[j].status);
       if (!os[j].stable() && firstBad.empty() && !os[j].message.empty()) firstBad = os[j].message;
@@ -349,13 +408,24 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       "formulation.\n"
       "- `temperature`: 10 cm of water (thermal expansion 1e-3/K, diffusivity 2e-4 m^2/s) heated from below by a "
       "source at 20 + dT/2 and cooled from above by one at 20 - dT/2 (rate 5/s).\n\n"
+      "**Solvers**: every sweep runs with `solver.pressure = \"wcsph\"` and again with `\"dfsph\"` (column "
+      "`solver`; in the figures WCSPH left, DFSPH right, one row per sweep). DFSPH has no stiffness: in place of "
+      "the `stiffness` sweep it sweeps `solver.density_tolerance` (the mean density error its constant-density "
+      "solve stops at, default 5e-4; at most `solver.max_pressure_iterations` = 100 iterations). Its `solver.cfl` "
+      "bounds the flow, dt <= cfl spacing / v_max (WCSPH's: dt <= cfl h / (sqrt(k) + v_max)). `density_ratio` "
+      "runs both formulations on DFSPH too (`density_formulation` is the density WCSPH's state equation reads; DFSPH's "
+      "constraint is the density contrast sum_j V_j W_ij for either formulation, but the density field its "
+      "watchdog and its implicit viscosity read follows the formulation, so both run). Outside `dt_factor` the cases keep "
+      "the default `solver.max_dt` = 1 ms, which is what sets DFSPH's step there; `dt_factor` lifts it to 10 ms "
+      "for both solvers.\n\n"
       "**Columns**: `status` is `stable` (ran to the end, nothing retried), `recovered` (ran to the end; the "
       "watchdog retried steps with half the dt), `stopped` (the watchdog gave up after `solver.max_retries` "
       "halvings and threw its message, quoted below) or `lost particles` (particles left the domain); `stable` "
       "is yes for the first two. `max_density_error` is the largest (rho - rho0)/rho0 after any accepted step "
       "(Simulation counters; the watchdog rejects steps above 0.5). Energy E = kinetic + gravitational (above "
       "the floor) + elastic, the last k (ln(rho/rho0) + rho0/rho - 1) per unit mass where rho > rho0 (the work "
-      "of P = k (rho - rho0) with the SPH density); `energy_drift` = (E_end - E_0)/E_0 and "
+      "of P = k (rho - rho0) with the SPH density; for DFSPH, which has no state equation, kinetic + gravitational "
+      "alone); `energy_drift` = (E_end - E_0)/E_0 and "
       "`energy_growth_max` = max over steps of (E - E_0)/E_0. A closed viscous box should only lose energy; "
       "growth above {:.0f} % is listed under the limits (not for `temperature`, where the sources do work). "
       "`first_trouble_step` is the first step the watchdog had to retry, or the step it stopped at.\n\n",
@@ -364,11 +434,11 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
   out += "## Limits found\n\n" + limits(cs, os) +
          "\n![largest compression per case](stability.png)\n\n![energy growth per case](stability_energy.png)\n\n"
          "## All cases\n\n";
-  out += t.markdown({"sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
+  out += t.markdown({"solver", "sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
                      "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s", "cpu_s"}) +
          "\n## Watchdog messages\n\n";
   for (size_t k = 0; k < cs.size(); ++k)
-    if (!os[k].message.empty()) out += fmt::format("- {} {}: {}\n", cs[k].sweep, cs[k].label, os[k].message);
+    if (!os[k].message.empty()) out += fmt::format("- {} {} {}: {}\n", cs[k].solver, cs[k].sweep, cs[k].label, os[k].message);
   out += fmt::format("\nTotal time of this report: {} ({}).\n", formatDuration(seconds), machine.describe());
   return out;
 }
@@ -383,8 +453,8 @@ int runStability(const Options& opt, const Machine& machine) {
   for (const Case& c : cs) {
     os.push_back(runOne(c));
     const Outcome& o = os.back();
-    fmt::print(stderr, "[stability {}/{}] {} {}: {} particles, {} steps, {}, retries {}, max density error {}  {:.2f} s  (elapsed {})\n",
-               os.size(), cs.size(), c.sweep, c.label, o.particles, o.steps, o.status, o.retries,
+    fmt::print(stderr, "[stability {}/{}] {} {} {}: {} particles, {} steps, {}, retries {}, max density error {}  {:.2f} s  (elapsed {})\n",
+               os.size(), cs.size(), c.solver, c.sweep, c.label, o.particles, o.steps, o.status, o.retries,
                fmtNumber(o.maxDensityError), o.wall, formatDuration(secondsSince(start)));
   }
   const fs::path out(opt.out);

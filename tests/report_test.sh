@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The report command end to end on its quick ladder: every CSV with its header and rows, every
-# plot a non-empty PNG, pages that name the machine, bad arguments refused.
+# The report command end to end on its quick ladder: every CSV with its header and rows (both
+# pressure solvers in each), every plot a non-empty PNG, pages that name the machine, bad
+# arguments refused.
 set -euo pipefail
 bin=$1
 work=$(mktemp -d)
@@ -17,24 +18,39 @@ check_csv() {
   local rows=$(($(wc -l < "$work/$1") - 1))
   [ "$rows" -eq "$3" ] || fail "$1 has $rows rows, expected $3"
 }
-common=problem,setting,spacing_m,dt_factor,variant,particles,steps,wall_s,cpu_s,load_1min,error
-check_csv accuracy_dam_break.csv "$common,rms_Z_shifted,rms_H,rms_H_shifted,pareto_rms_Z_shifted,pareto,status" 2
-check_csv accuracy_hydrostatic.csv "$common,max_bin_ratio_error,bins,pareto,status" 2
-check_csv accuracy_heat_diffusion.csv "$common,max_abs_error,pareto,status" 2
-check_csv accuracy_layered.csv "$common,heavy_wrong_fraction,light_wrong_fraction,pareto,status" 2
-check_csv stability.csv "sweep,case,parameter,value,particles,end_time_s,status,stable,steps,retries,first_trouble_step,first_trouble_time_s,max_density_error,energy_drift,energy_growth_max,lost_particles,wall_s,cpu_s,message" 9
+common=problem,solver,setting,spacing_m,dt_factor,variant,particles,steps,wall_s,cpu_s,load_1min,error
+check_csv accuracy_dam_break.csv "$common,rms_Z_shifted,rms_H,rms_H_shifted,pareto_rms_Z_shifted,pareto,status" 4
+check_csv accuracy_hydrostatic.csv "$common,max_bin_ratio_error,bins,pareto,status" 3
+check_csv accuracy_heat_diffusion.csv "$common,max_abs_error,pareto,status" 4
+check_csv accuracy_layered.csv "$common,heavy_wrong_fraction,light_wrong_fraction,pareto,status" 4
+check_csv stability.csv "solver,sweep,case,parameter,value,particles,end_time_s,status,stable,steps,retries,first_trouble_step,first_trouble_time_s,max_density_error,energy_drift,energy_growth_max,lost_particles,wall_s,cpu_s,message" 18
 
 for p in dam_break hydrostatic heat_diffusion layered; do
-  # Every problem has a point on its Pareto front (columns pareto, status last; only runs that
-  # finished can be on it).
+  for solver in wcsph dfsph; do
+    # Every problem has each solver's rungs; the dam break and heat diffusion, which both solvers
+    # finish, a point on each solver's own Pareto front (columns pareto, status last; only runs
+    # that finished can be on it).
+    grep -q "^$p,$solver," "$work/accuracy_$p.csv" || fail "no $solver row in accuracy_$p.csv"
+    case $p in dam_break|heat_diffusion)
+      grep -q "^$p,$solver,.*,1,ok\$" "$work/accuracy_$p.csv" || fail "no $solver Pareto point in accuracy_$p.csv";;
+    esac
+  done
   grep -q ',1,ok$' "$work/accuracy_$p.csv" || fail "no Pareto point in accuracy_$p.csv"
 done
-# The dam break is measured against Martin & Moyce: a finite RMS of Z, not far off.
-awk -F, 'NR > 1 && !($11 > 0 && $11 < 1) { exit 1 }' "$work/accuracy_dam_break.csv" || fail "dam-break error out of (0, 1): $(cat "$work/accuracy_dam_break.csv")"
+# The dam break is measured against Martin & Moyce: a finite RMS of Z, not far off, both solvers.
+awk -F, 'NR > 1 && !($12 > 0 && $12 < 1) { exit 1 }' "$work/accuracy_dam_break.csv" || fail "dam-break error out of (0, 1): $(cat "$work/accuracy_dam_break.csv")"
 # The watchdog's verdicts reach the table: the soft case stops with its message, the default holds.
-grep -q '^stiffness,k=10,.*,stopped,no,.*simulation unstable at step' "$work/stability.csv" || fail "k=10 not reported as stopped"
-grep -q '^stiffness,k=1000,.*,stable,yes,' "$work/stability.csv" || fail "k=1000 not reported as stable"
-grep -q '^dt_factor,f=25 no retries,.*,stopped,no,.*solver.cfl' "$work/stability.csv" || fail "dt factor 25 without retries not stopped naming solver.cfl"
+grep -q '^wcsph,stiffness,k=10,.*,stopped,no,.*simulation unstable at step' "$work/stability.csv" || fail "k=10 not reported as stopped"
+grep -q '^wcsph,stiffness,k=1000,.*,stable,yes,' "$work/stability.csv" || fail "k=1000 not reported as stable"
+for solver in wcsph dfsph; do
+  grep -q "^$solver,dt_factor,f=25 no retries,.*,stopped,no,.*solver.cfl" "$work/stability.csv" || fail "$solver dt factor 25 without retries not stopped naming solver.cfl"
+  # Every family of sweeps ran on both solvers.
+  for sweep in density_ratio viscosity dt_factor temperature spacing; do
+    grep -q "^$solver,$sweep," "$work/stability.csv" || fail "no $solver $sweep case in stability.csv"
+  done
+done
+# DFSPH's stand-in for the stiffness sweep: its default tolerance holds the drop.
+grep -q '^dfsph,density_tolerance,tol=0.0005,.*,stable,yes,' "$work/stability.csv" || fail "DFSPH tol=5e-4 not reported as stable"
 
 for png in accuracy_dam_break accuracy_hydrostatic accuracy_heat_diffusion accuracy_layered dam_break_front stability stability_energy; do
   f="$work/$png.png"
@@ -49,6 +65,9 @@ for page in accuracy.md stability.md; do
   grep -q "hardware threads" "$work/$page" || fail "$page does not give the thread count"
 done
 grep -q '!\[error against wall time\](accuracy_dam_break.png)' "$work/accuracy.md" || fail "accuracy.md does not show its plot"
+grep -q '^| dfsph | a/8 f=1 |' "$work/accuracy.md" || fail "accuracy.md has no DFSPH row"
+grep -q 'DFSPH rungs' "$work/accuracy.md" || fail "accuracy.md does not say which rungs DFSPH skips"
+grep -q 'wcsph' "$work/accuracy_dam_break.gp" && grep -q 'dfsph' "$work/accuracy_dam_break.gp" || fail "dam-break plot does not draw both solvers"
 ls "$work" | grep -q '\.tmp$' && fail "temporary files left behind: $(ls "$work" | grep '\.tmp$')"
 
 status=0
