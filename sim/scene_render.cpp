@@ -12,7 +12,10 @@ namespace mf::scene_reading {
 namespace {
 
 /// Good looks for common fluid names, so that a scene needs no [render] table to render well.
-MaterialSpec defaultPhaseMaterial(const std::string& name) {
+/// `otherLiquid` counts the liquids before this one that no name matched: the first is clear
+/// water, the next ones dyed, so that two fluids are told apart in a frame without materials
+/// (two_fluids_mixed's "light" and "heavy" both rendered as water).
+MaterialSpec defaultPhaseMaterial(const std::string& name, int& otherLiquid) {
   MaterialSpec m;
   auto has = [&](const char* w) { return name.find(w) != std::string::npos; };
   if (has("oil")) {
@@ -30,8 +33,14 @@ MaterialSpec defaultPhaseMaterial(const std::string& name) {
     m.kind = MaterialSpec::Kind::Emitter;
     m.emission = {8, 3, 0.5};
   } else {
+    // Absorption per metre: water is faintly blue-green at 10 cm; the dyes read clearly there.
+    static const Vec3 kDyes[] = {{4.0, 1.2, 0.8},     // water
+                                 {0.6, 18.0, 12.0},   // red
+                                 {1.0, 3.0, 25.0},    // amber
+                                 {20.0, 1.0, 14.0},   // green
+                                 {10.0, 28.0, 1.5}};  // violet
     m.ior = 1.33;
-    m.absorption = {4.0, 1.2, 0.8};  // water: faintly blue-green at 10 cm
+    m.absorption = kDyes[size_t(otherLiquid++) % (sizeof(kDyes) / sizeof(kDyes[0]))];
   }
   return m;
 }
@@ -114,7 +123,8 @@ void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
 /// See scene_reader.h.
 void readRender(Reader& r, TableReader& top, Scene& sc) {
   RenderSettings& o = sc.render;
-  for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name));
+  int otherLiquid = 0;
+  for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name, otherLiquid));
   o.solidMaterials.assign(sc.solids.size(), defaultSolidMaterial());
   TableReader t(r, top.table("render"), "render");
   o.width = t.integer("width", o.width, 8, 16384, "pixels");
