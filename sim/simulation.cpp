@@ -416,12 +416,16 @@ int64_t Simulation::findInvalidParticle(Real dt, std::string& why, std::string& 
     case 2:
       why = fmt::format("moved {:.3g} h in one step (|v| = {:.4g} m/s, limit {} h)", length(ps_.velocity[i]) * dt / kernels_.h,
                         length(ps_.velocity[i]), scene_.solver.maxMoveRatio);
-      parameter = fmt::format("solver.cfl (now {}) or the stiffness of phase \"{}\" (k = {})", scene_.solver.cfl, ph.name, ph.stiffness);
+      // DFSPH has no stiffness: its step and tolerance are what set the motion per step.
+      parameter = dfsph_ ? fmt::format("solver.cfl (now {}) or solver.max_dt (now {})", scene_.solver.cfl, scene_.solver.maxDt)
+                         : fmt::format("solver.cfl (now {}) or the stiffness of phase \"{}\" (k = {})", scene_.solver.cfl, ph.name, ph.stiffness);
       break;
     default:
       why = fmt::format("compressed by {:.1f}% (rho = {:.6g}, rho0 = {:.6g}, limit {:.0f}%)",
                         100 * (ps_.density[i] / ps_.restDensity[i] - 1), ps_.density[i], ps_.restDensity[i], 100 * maxErr);
-      parameter = fmt::format("the stiffness of phase \"{}\" (k = {}, too soft for this flow) or solver.cfl", ph.name, ph.stiffness);
+      parameter = dfsph_ ? fmt::format("solver.cfl (now {}) or solver.density_tolerance (now {})", scene_.solver.cfl,
+                                       scene_.solver.densityTolerance)
+                         : fmt::format("the stiffness of phase \"{}\" (k = {}, too soft for this flow) or solver.cfl", ph.name, ph.stiffness);
   }
   return first;
 }
