@@ -85,7 +85,7 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
     int count = 0;
     for (size_t i = 0; i < q.size(); ++i) {
       const Vec3 d = q.position[i] - c;
-      if (length(d) < 0.5 * R) sum += q.pressure[i], ++count;
+      if (length(d) < 0.5 * R) sum += q.mechanicalPressure(i), ++count;
       if (d.y > 0) up += q.force[i].y;  // the non-pressure forces of the step: tension (and viscosity)
     }
     if (count) pressure += sum / count, cap += up, ++samples;

@@ -237,7 +237,7 @@ Measured runHydrostatic(const Setting& s) {
           const Vec3 p = ps.position[i];
           if (p.x < h || p.x > w - h || p.z < h || p.z > w - h) continue;
           auto& b = bins[int(std::floor(p.y / h))];
-          b.p += dt * ps.pressure[i];
+          b.p += dt * ps.mechanicalPressure(i);
           b.expected += dt * rho0 * kG * (H - p.y);
           b.weight += dt;
         }

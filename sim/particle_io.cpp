@@ -85,7 +85,9 @@ void writeParticleFrame(const std::string& path, const ParticleSet& ps, const Fr
     addAttribute(*grid, *index, name, f);
   };
   addScalar("density", ps.density);
-  addScalar("pressure", ps.pressure);
+  std::vector<Real> pressure(ps.size());
+  for (size_t i = 0; i < ps.size(); ++i) pressure[i] = ps.mechanicalPressure(i);
+  addScalar("pressure", pressure);
   if (ps.has(Attribute::Temperature)) addScalar("temperature", ps.temperature);
   if (ps.has(Attribute::InterfaceColour)) addScalar("interfaceColour", ps.interfaceColour);
   if (ps.has(Attribute::SurfaceColour)) addScalar("surfaceColour", ps.surfaceColour);
