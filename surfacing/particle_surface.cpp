@@ -515,15 +515,16 @@ uint32_t findBodies(const std::vector<openvdb::Vec3d>& positions, double link, s
 
 namespace {
 
-/// The union of the bodies among `positions`, each surfaced as if alone (before the final
-/// renormalisation); null when there are no positions.
+/// The union of the bodies among `positions` (body[i] numbers them 0..bodies-1 as findBodies
+/// does), each surfaced as if alone (before the final renormalisation); null when there are no
+/// positions.
 ParticleSurface surfaceBodies(const std::vector<openvdb::Vec3d>& positions, const std::vector<openvdb::Vec3f>& velocities,
-                              double spacing, const SurfacingSettings& s, const openvdb::math::Transform::Ptr& transform) {
+                              const std::vector<uint32_t>& body, uint32_t bodies, double spacing, const SurfacingSettings& s,
+                              const openvdb::math::Transform::Ptr& transform) {
   ParticleSurface out;
   if (positions.empty()) return out;
   const double voxel = transform->voxelSize()[0];
-  std::vector<uint32_t> body, colour;
-  const uint32_t bodies = findBodies(positions, kLinkRatio * spacing, body);
+  std::vector<uint32_t> colour;
   // Bodies of one colour are surfaced exactly as if alone when no kernel holds particles of
   // both (2 search radii) and their bands (`wide` voxels beyond surfaces about a particle radius
   // out) stay more than a stencil radius apart. Several colours: each pass surfaces its bodies,
@@ -571,18 +572,28 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
   const uint32_t bodies = findBodies(positions, kLinkRatio * spacing, body);
   std::vector<uint32_t> size(bodies, 0);
   for (uint32_t b : body) ++size[b];
-  std::vector<openvdb::Vec3d> largeP, smallP;
-  std::vector<openvdb::Vec3f> largeV, smallV;
+  // Each set keeps its bodies' labels, renumbered in order of first appearance: the numbering
+  // findBodies gives the set's own particles, so the bodies are not searched for again.
+  struct Subset {
+    std::vector<openvdb::Vec3d> p;
+    std::vector<openvdb::Vec3f> v;
+    std::vector<uint32_t> body;
+    uint32_t bodies = 0;
+  } large, small;
+  std::vector<uint32_t> renumbered(bodies, ~0u);
   for (size_t i = 0; i < positions.size(); ++i) {
-    const bool small = size[body[i]] < kUnfilteredBodyParticles;
-    (small ? smallP : largeP).push_back(positions[i]);
-    if (!velocities.empty()) (small ? smallV : largeV).push_back(velocities[i]);
+    Subset& set = size[body[i]] < kUnfilteredBodyParticles ? small : large;
+    uint32_t& label = renumbered[body[i]];
+    if (label == ~0u) label = set.bodies++;
+    set.p.push_back(positions[i]);
+    set.body.push_back(label);
+    if (!velocities.empty()) set.v.push_back(velocities[i]);
   }
   SurfacingSettings unfiltered = s;
   unfiltered.filterIterations = 0;
-  out = surfaceBodies(largeP, largeV, spacing, s, transform);
-  ParticleSurface small = surfaceBodies(smallP, smallV, spacing, unfiltered, transform);
-  if (small.levelSet) unite(out, small.levelSet, small.velocity);
+  out = surfaceBodies(large.p, large.v, large.body, large.bodies, spacing, s, transform);
+  ParticleSurface smallSurface = surfaceBodies(small.p, small.v, small.body, small.bodies, spacing, unfiltered, transform);
+  if (smallSurface.levelSet) unite(out, smallSurface.levelSet, smallSurface.velocity);
   {
     // The filtered field is close to a distance already: a few reinitialisation sweeps and a
     // trim to 3 voxels cost less than meshing it again.
