@@ -141,6 +141,7 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     ds.densityTolerance = st.densityTolerance;
     ds.divergenceTolerance = st.divergenceTolerance;
     ds.maxIterations = st.maxPressureIterations;
+    ds.conjugateGradient = st.conjugateGradient;
     ds.wallFactor = wall0.mirrorFactor;
     dfsph_ = std::make_unique<DfsphSolver>(ds);
     attributes |= bit(Attribute::DivergencePressure);

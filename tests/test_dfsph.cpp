@@ -131,8 +131,11 @@ TEST(Dfsph, DamBreakNeedsNoWallClamp) {
   EXPECT_EQ(sim.particles().size(), 8192u);
 }
 
-TEST(Dfsph, SameBitsOnOneAndTwoThreadsAndAfterResume) {
-  const mf::Scene scene = mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", "solver.particle_spacing=0.00714"});
+class DfsphIteration : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(DfsphIteration, SameBitsOnOneAndTwoThreadsAndAfterResume) {
+  const mf::Scene scene = mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", "solver.particle_spacing=0.00714",
+                                                      std::string("solver.pressure_iteration=\"") + GetParam() + "\""});
   // Frames at 0.05 and 0.1 s, as the pipeline advances (each advanceTo lands on its time).
   auto run = [&](int threads, double t) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
@@ -154,5 +157,7 @@ TEST(Dfsph, SameBitsOnOneAndTwoThreadsAndAfterResume) {
   std::filesystem::remove(path);
   EXPECT_EQ(stateBytes(resumed), stateBytes(one));
 }
+
+INSTANTIATE_TEST_SUITE_P(Dfsph, DfsphIteration, ::testing::Values("jacobi", "cg"));
 
 }  // namespace

@@ -46,22 +46,23 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
   });
 }
 
-void DfsphSolver::densityRate(const StepContext& ctx, const ParticleSet& ps) {
-  const size_t n = ps.size();
-  rate_.resize(n);
+void DfsphSolver::densityRate(const StepContext& ctx, const std::vector<Vec3>& velocity, std::vector<Real>& rate) const {
+  const size_t n = velocity.size();
+  rate.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 vi = ps.velocity[i];
-      Real rate = 0;
+      const Vec3 vi = velocity[i];
+      Real sum = 0;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k)
-        rate += dot(vi - ps.velocity[ctx.fluidNeighbors.indices[k]], fluidGrad_[k]);
-      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) rate += dot(vi, wallGrad_[k]);
-      rate_[i] = rate;
+        sum += dot(vi - velocity[ctx.fluidNeighbors.indices[k]], fluidGrad_[k]);
+      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) sum += dot(vi, wallGrad_[k]);
+      rate[i] = sum;
     }
   });
 }
 
-void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt) {
+void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
+                                std::vector<Vec3>& velocity) const {
   const size_t n = ps.size();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -74,7 +75,7 @@ void DfsphSolver::applyPressure(const StepContext& ctx, ParticleSet& ps, const s
       if (pi != 0)
         for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) acc += wallGrad_[k] * pi;
       // Velocities are read (positions only) and written per particle: no race.
-      ps.velocity[i] -= acc * (dt / ps.restDensity[i]);
+      velocity[i] -= acc * (dt / ps.restDensity[i]);
     }
   });
 }
@@ -86,10 +87,10 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
   PressureSolveStats stats;
   if (n == 0) return stats;
   // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
-  applyPressure(ctx, ps, p, dt);
+  applyPressure(ctx, ps, p, dt, ps.velocity);
   delta_.resize(n);
   for (int it = 0; it < settings_.maxIterations; ++it) {
-    densityRate(ctx, ps);
+    densityRate(ctx, ps.velocity, rate_);
     // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
     // fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
     // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
@@ -105,15 +106,94 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
     stats.maxError = parallelMax(n, [&](size_t i) { return error(i) * errorScale; });
     if (it >= settings_.minIterations && stats.meanError <= tolerance) return stats;
     for (size_t i = 0; i < n; ++i) p[i] += delta_[i];
-    applyPressure(ctx, ps, delta_, dt);
+    applyPressure(ctx, ps, delta_, dt, ps.velocity);
   }
   stats.iterations = settings_.maxIterations;
   stats.converged = false;
   return stats;
 }
 
+template <class Error>
+PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt,
+                                          Real stepScale, Real errorScale, Real tolerance, Error&& error) {
+  const size_t n = ps.size();
+  PressureSolveStats stats;
+  if (n == 0) return stats;
+  applyPressure(ctx, ps, p, dt, ps.velocity);  // warm start
+  for (auto* v : {&err_, &x_, &r_, &z_, &d_, &q_, &delta_}) v->assign(n, 0);
+  active_.assign(n, 0);
+  // In the unknowns lambda_i = V_i p_i the pressure's effect on the error is a symmetric positive
+  // (semi-)definite operator, error(p + lambda/V) = error(p) - K lambda, with
+  //   K lambda = -sensitivity * d(theta)/dt of the velocity change dt a(lambda/V),
+  // K = sensitivity dt J M^-1 J^T (J = d theta / dx, the force being -J^T lambda): conjugate gradients
+  // solve K lambda = error on the particles that carry a pressure or are compressed, and the
+  // pressure is then projected to >= 0 and the active set renewed (Jacobi on the diagonal
+  // D_i / (stepScale V_i) preconditions).
+  const Real sensitivity = 1 / (dt * stepScale);
+  auto restVolume = [&](size_t i) { return ps.mass[i] / ps.restDensity[i]; };
+  auto preconditioner = [&](size_t i) { return diagonal_[i] > 0 ? stepScale * restVolume(i) / diagonal_[i] : Real(0); };
+  int used = 0;
+  for (;;) {
+    densityRate(ctx, ps.velocity, rate_);
+    const Real sum = blockSum(n, [&](size_t i) {
+      const Real e = error(i);
+      err_[i] = e;
+      active_[i] = p[i] > 0 || e > 0;
+      // The error left: compression anywhere, and expansion where a pressure still pushes.
+      return (p[i] > 0 ? std::fabs(e) : std::max(e, Real(0))) * errorScale;
+    });
+    stats.iterations = used;
+    stats.meanError = sum / Real(n);
+    stats.maxError = parallelMax(n, [&](size_t i) { return err_[i] * errorScale; });
+    if (used >= settings_.minIterations && stats.meanError <= tolerance) return stats;
+    if (used >= settings_.maxIterations) break;
+    Real rz = blockSum(n, [&](size_t i) {
+      x_[i] = 0;
+      r_[i] = active_[i] ? err_[i] : 0;
+      z_[i] = r_[i] * preconditioner(i);
+      d_[i] = z_[i];
+      return r_[i] * z_[i];
+    });
+    while (used < settings_.maxIterations && rz > 0) {
+      // q = K d, on the active set.
+      for (size_t i = 0; i < n; ++i) delta_[i] = d_[i] / restVolume(i);
+      scratchVelocity_.assign(n, Vec3());
+      applyPressure(ctx, ps, delta_, dt, scratchVelocity_);
+      densityRate(ctx, scratchVelocity_, q_);
+      const Real dq = blockSum(n, [&](size_t i) {
+        q_[i] = active_[i] ? -sensitivity * q_[i] : 0;
+        return d_[i] * q_[i];
+      });
+      ++used;
+      if (!(dq > 0)) break;
+      const Real alpha = rz / dq;
+      const Real rzNext = blockSum(n, [&](size_t i) {
+        x_[i] += alpha * d_[i];
+        r_[i] -= alpha * q_[i];
+        z_[i] = r_[i] * preconditioner(i);
+        return r_[i] * z_[i];
+      });
+      const Real left = blockSum(n, [&](size_t i) { return std::fabs(r_[i]); }) * errorScale / Real(n);
+      if (left <= 0.5 * tolerance) break;
+      const Real beta = rzNext / rz;
+      rz = rzNext;
+      for (size_t i = 0; i < n; ++i) d_[i] = z_[i] + beta * d_[i];
+    }
+    for (size_t i = 0; i < n; ++i) {
+      const Real next = std::max(Real(0), p[i] + x_[i] / restVolume(i));
+      delta_[i] = next - p[i];
+      p[i] = next;
+    }
+    applyPressure(ctx, ps, delta_, dt, ps.velocity);
+  }
+  stats.converged = false;
+  return stats;
+}
+
 PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
   // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
+  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance,
+                 [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; });
   return iterate(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance,
                  [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; });
 }
@@ -121,10 +201,12 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {
   // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free surface,
   // a splash) it may expand, and only a pressure left from before is undone.
-  return iterate(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, [&](size_t i) {
+  auto error = [&](size_t i) {
     const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
     return dense ? rate_[i] : std::min(rate_[i], Real(0));
-  });
+  };
+  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
+  return iterate(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
 }
 
 }  // namespace mf

@@ -41,6 +41,7 @@ struct DfsphSettings {
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
   int maxIterations = 100;
   int minIterations = 2;
+  bool conjugateGradient = false;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
 };
 
@@ -69,16 +70,24 @@ class DfsphSolver {
 
  private:
   /// d theta_i / dt of the current velocities (fluid pairs and walls).
-  void densityRate(const StepContext& ctx, const ParticleSet& ps);
-  /// v_i -= dt a_i for the pressure field `p` (the acceleration above).
-  void applyPressure(const StepContext& ctx, ParticleSet& ps, const std::vector<Real>& p, Real dt);
+  void densityRate(const StepContext& ctx, const std::vector<Vec3>& velocity, std::vector<Real>& rate) const;
+  /// velocity_i -= dt a_i for the pressure field `p` (the acceleration above).
+  void applyPressure(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
+                     std::vector<Vec3>& velocity) const;
   /// The Jacobi iterations both solves share: p_i += omega error_i stepScale / D_i (kept >= 0)
   /// until the mean |error| x errorScale is below `tolerance`.
   template <class Error>
   PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
                              Real errorScale, Real tolerance, Error&& error);
 
+  template <class Error>
+  PressureSolveStats iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
+                               Real errorScale, Real tolerance, Error&& error);
+
   DfsphSettings settings_;
+  std::vector<Real> err_, x_, r_, z_, d_, q_;
+  std::vector<char> active_;
+  std::vector<Vec3> scratchVelocity_;
   std::vector<Real> diagonal_, rate_, delta_;
   std::vector<Vec3> fluidGrad_, wallGrad_;  // per neighbour pair, from computeDiagonal
 };
