@@ -53,8 +53,14 @@ std::string stateBytes(mf::Simulation& sim) {
   return bytes;
 }
 
-TEST(Dfsph, StillTankStaysAtRestDensityWithoutClampsAndTheStepIsSetByTheFlow) {
-  mf::Simulation sim(mf::parseScene(kStillTank, "still.toml"));
+// Tests that run on both linear iterations of the solves (solver.pressure_iteration).
+class DfsphIteration : public ::testing::TestWithParam<const char*> {
+ protected:
+  std::string iteration() const { return std::string("solver.pressure_iteration=\"") + GetParam() + "\""; }
+};
+
+TEST_P(DfsphIteration, StillTankStaysAtRestDensityWithoutClampsAndTheStepIsSetByTheFlow) {
+  mf::Simulation sim(mf::parseScene(kStillTank, "still.toml", {iteration()}));
   Real worstMean = 0;
   sim.advanceTo(1.0, [&](const mf::Simulation& s) {
     worstMean = std::max(worstMean, std::fabs(s.counters().lastDensityError));
@@ -109,10 +115,10 @@ TEST(Dfsph, WallsHoldTheSeededLatticeAtRestDensityAndInBalance) {
   EXPECT_LE(sim.counters().pressureIterations, 20u);
 }
 
-TEST(Dfsph, ALoneDropComesToRestOnTheFloorWithoutAClamp) {
+TEST_P(DfsphIteration, ALoneDropComesToRestOnTheFloorWithoutAClamp) {
   // One particle falls 20 cm (2 m/s at impact): the wall alone must stop it, with no fluid
   // around to make a pressure. The calibration puts its rest a tenth of a spacing above the floor.
-  mf::Simulation sim(mf::parseScene(kStillTank, "drop.toml", {"fluid.0.min=[0.1,0.2,0.1]", "fluid.0.max=[0.11,0.21,0.11]"}));
+  mf::Simulation sim(mf::parseScene(kStillTank, "drop.toml", {"fluid.0.min=[0.1,0.2,0.1]", "fluid.0.max=[0.11,0.21,0.11]", iteration()}));
   ASSERT_EQ(sim.particles().size(), 1u);
   sim.advanceTo(1.0);
   const auto& ps = sim.particles();
@@ -122,20 +128,18 @@ TEST(Dfsph, ALoneDropComesToRestOnTheFloorWithoutAClamp) {
   EXPECT_LT(length(ps.velocity[0]), 1e-3);
 }
 
-TEST(Dfsph, DamBreakNeedsNoWallClamp) {
+TEST_P(DfsphIteration, DamBreakNeedsNoWallClamp) {
   // The shipped dam break (8 192 particles, the front hits the far wall at 1.7 m/s and climbs to
   // the lid), frame by frame as the pipeline advances. Before the calibrated wall: 13 196 clamps.
-  mf::Simulation sim(mf::loadScene("dam_break", {"solver.pressure=\"dfsph\""}));
+  mf::Simulation sim(mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", iteration()}));
   for (int frame = 1; frame <= 18; ++frame) sim.advanceTo(frame / 30.0);
   EXPECT_EQ(sim.counters().wallClamps, 0u);
   EXPECT_EQ(sim.particles().size(), 8192u);
 }
 
-class DfsphIteration : public ::testing::TestWithParam<const char*> {};
-
 TEST_P(DfsphIteration, SameBitsOnOneAndTwoThreadsAndAfterResume) {
   const mf::Scene scene = mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", "solver.particle_spacing=0.00714",
-                                                      std::string("solver.pressure_iteration=\"") + GetParam() + "\""});
+                                                      iteration()});
   // Frames at 0.05 and 0.1 s, as the pipeline advances (each advanceTo lands on its time).
   auto run = [&](int threads, double t) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);

@@ -138,7 +138,8 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
     const Real sum = blockSum(n, [&](size_t i) {
       const Real e = error(i);
       err_[i] = e;
-      active_[i] = p[i] > 0 || e > 0;
+      // A particle with no neighbour and no wall (D_i = 0) cannot be corrected: it holds no pressure.
+      active_[i] = diagonal_[i] > 0 && (p[i] > 0 || e > 0);
       // The error left: compression anywhere, and expansion where a pressure still pushes.
       return (p[i] > 0 ? std::fabs(e) : std::max(e, Real(0))) * errorScale;
     });
@@ -154,6 +155,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
       d_[i] = z_[i];
       return r_[i] * z_[i];
     });
+    if (!(rz > 0)) ++used;  // nothing to solve: the projection below still makes progress
     while (used < settings_.maxIterations && rz > 0) {
       // q = K d, on the active set.
       for (size_t i = 0; i < n; ++i) delta_[i] = d_[i] / restVolume(i);
@@ -180,7 +182,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
       for (size_t i = 0; i < n; ++i) d_[i] = z_[i] + beta * d_[i];
     }
     for (size_t i = 0; i < n; ++i) {
-      const Real next = std::max(Real(0), p[i] + x_[i] / restVolume(i));
+      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + x_[i] / restVolume(i)) : Real(0);
       delta_[i] = next - p[i];
       p[i] = next;
     }
