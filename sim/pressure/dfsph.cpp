@@ -194,10 +194,9 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
 
 PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
   // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
-  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance,
-                 [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; });
-  return iterate(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance,
-                 [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; });
+  auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
+  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  return iterate(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
 }
 
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {

@@ -80,6 +80,8 @@ class DfsphSolver {
   PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
                              Real errorScale, Real tolerance, Error&& error);
 
+  /// The same solve by Jacobi-preconditioned conjugate gradients on the active set (the particles
+  /// that carry a pressure or are compressed), projected to p >= 0 between restarts.
   template <class Error>
   PressureSolveStats iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
                                Real errorScale, Real tolerance, Error&& error);
