@@ -174,6 +174,8 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
              sim.boundary().size(), sim.kernels().h, opt.firstFrame, lastFrame, scene.frameRate, out.string());
 
   const uint64_t steps0 = sim.stepCount();
+  const double time0 = sim.time();
+  const uint64_t iterations0 = sim.counters().pressureIterations + sim.counters().divergenceIterations;
   double particleSteps = 0;
   const StopSignals stopSignals;
   const auto loopStart = Clock::now();
@@ -233,10 +235,16 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
       "  simulate      {:>8.2f} s   {} steps, {:.0f} ns per particle-step\n"
       "  write frames  {:>8.2f} s\n"
       "  checkpoints   {:>8.2f} s\n"
-      "  particles: {} at start, {} now, {} left the domain; watchdog retries: {}; wall clamps: {}; max compression {:.2f}%\n",
+      "  particles: {} at start, {} now, {} left the domain; watchdog retries: {}; wall clamps: {}; max compression {:.2f}%\n"
+      "  {}; {:.1f} s of wall time per simulated second\n",
       scene.name, opt.threads > 0 ? std::to_string(opt.threads) : "all", tInit, tSim, steps,
       particleSteps > 0 ? tSim * 1e9 / particleSteps : 0.0, tWrite, tCheckpoint, n0, sim.particles().size(),
-      c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError) + [&] {
+      c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError,
+      scene.solver.pressure == PressureSolverChoice::WCSPH
+          ? std::string("pressure: wcsph")
+          : fmt::format("pressure: dfsph ({}), {:.1f} iterations per step", scene.solver.conjugateGradient ? "cg" : "jacobi",
+                        steps ? double(c.pressureIterations + c.divergenceIterations - iterations0) / double(steps) : 0.0),
+      sim.time() > time0 ? tSim / (sim.time() - time0) : 0.0) + [&] {
         std::string w;
         for (const std::string& line : runWarnings(sim, seeded)) w += "  warning: " + line + "\n";
         return w;

@@ -131,8 +131,8 @@ struct SolverSettings {
   // DFSPH: stop at this mean relative density error, and mean divergence error per step.
   Real densityTolerance = 5e-4, divergenceTolerance = 1e-3;
   int maxPressureIterations = 100;
-  // DFSPH's linear iteration: projected Jacobi, or conjugate gradients on the active set.
-  bool conjugateGradient = false;
+  // DFSPH's linear iteration: conjugate gradients on the active set, or projected Jacobi.
+  bool conjugateGradient = true;
   Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid
   Real smoothingRatio = 2.0;        // h / spacing; 2 gives about 33 neighbours
   DensityFormulation density = DensityFormulation::Mass;

@@ -175,7 +175,7 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
   o.divergenceTolerance = s.number("divergence_tolerance", o.divergenceTolerance, 1e-6, 0.1, "(relative, per step)", false);
   o.maxPressureIterations = s.integer("max_pressure_iterations", o.maxPressureIterations, 2, 10000);
-  o.conjugateGradient = s.text("pressure_iteration", "jacobi", {"jacobi", "cg"}) == "cg";
+  o.conjugateGradient = s.text("pressure_iteration", "cg", {"cg", "jacobi"}) == "cg";
   o.particleSpacing = s.number("particle_spacing", o.particleSpacing, 1e-5, 10, "m", true, true);
   o.smoothingRatio = s.number("smoothing_ratio", o.smoothingRatio, 1.2, 4.0);
   o.density = s.text("density_formulation", "mass", {"mass", "number"}) == "number" ? DensityFormulation::Number

@@ -11,6 +11,11 @@ namespace mf {
 
 namespace {
 constexpr Real kRelaxation = 0.5;
+// A solve also goes on while one particle is compressed by more than this many tolerances (1 %
+// density at the default 0.05 %): the mean alone let a lone splash particle reach a wall with its
+// compression unresolved (one clamp in the dam break; none at 20, 24.7 % peak instead of 28.5 %,
+// 10 % more iterations).
+constexpr Real kWorstError = 20;
 }
 
 void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps) {
@@ -82,13 +87,12 @@ void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, c
 
 template <class Error>
 PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                                        Real errorScale, Real tolerance, Error&& error) {
+                                        Real errorScale, Real tolerance, Real stallRatio, Error&& error) {
   const size_t n = ps.size();
   PressureSolveStats stats;
   if (n == 0) return stats;
-  // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
-  applyPressure(ctx, ps, p, dt, ps.velocity);
   delta_.resize(n);
+  Real previous = 0;
   for (int it = 0; it < settings_.maxIterations; ++it) {
     densityRate(ctx, ps.velocity, rate_);
     // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
@@ -104,7 +108,13 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
     stats.iterations = it;
     stats.meanError = sum / Real(n);
     stats.maxError = parallelMax(n, [&](size_t i) { return error(i) * errorScale; });
-    if (it >= settings_.minIterations && stats.meanError <= tolerance) return stats;
+    if (it >= settings_.minIterations && stats.meanError <= tolerance && stats.maxError <= kWorstError * tolerance) return stats;
+    // Stalled: the sweeps have removed the local error, what is left is long-wave (CG's part).
+    if (it >= settings_.minIterations && stats.meanError > stallRatio * previous) {
+      stats.converged = false;
+      return stats;
+    }
+    previous = stats.meanError;
     for (size_t i = 0; i < n; ++i) p[i] += delta_[i];
     applyPressure(ctx, ps, delta_, dt, ps.velocity);
   }
@@ -115,11 +125,10 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
 
 template <class Error>
 PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt,
-                                          Real stepScale, Real errorScale, Real tolerance, Error&& error) {
+                                          Real stepScale, Real errorScale, Real tolerance, int used, Error&& error) {
   const size_t n = ps.size();
   PressureSolveStats stats;
   if (n == 0) return stats;
-  applyPressure(ctx, ps, p, dt, ps.velocity);  // warm start
   for (auto* v : {&err_, &x_, &r_, &z_, &d_, &q_, &delta_}) v->assign(n, 0);
   active_.assign(n, 0);
   // In the unknowns lambda_i = V_i p_i the pressure's effect on the error is a symmetric positive
@@ -132,7 +141,6 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
   const Real sensitivity = 1 / (dt * stepScale);
   auto restVolume = [&](size_t i) { return ps.mass[i] / ps.restDensity[i]; };
   auto preconditioner = [&](size_t i) { return diagonal_[i] > 0 ? stepScale * restVolume(i) / diagonal_[i] : Real(0); };
-  int used = 0;
   for (;;) {
     densityRate(ctx, ps.velocity, rate_);
     const Real sum = blockSum(n, [&](size_t i) {
@@ -146,7 +154,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
     stats.iterations = used;
     stats.meanError = sum / Real(n);
     stats.maxError = parallelMax(n, [&](size_t i) { return err_[i] * errorScale; });
-    if (used >= settings_.minIterations && stats.meanError <= tolerance) return stats;
+    if (used >= settings_.minIterations && stats.meanError <= tolerance && stats.maxError <= kWorstError * tolerance) return stats;
     if (used >= settings_.maxIterations) break;
     Real rz = blockSum(n, [&](size_t i) {
       x_[i] = 0;
@@ -192,11 +200,24 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
   return stats;
 }
 
+template <class Error>
+PressureSolveStats DfsphSolver::solve(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
+                                      Real errorScale, Real tolerance, Error&& error) {
+  // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
+  applyPressure(ctx, ps, p, dt, ps.velocity);
+  if (!settings_.conjugateGradient) return iterate(ctx, ps, p, dt, stepScale, errorScale, tolerance, Real(1e30), error);
+  // Projected Jacobi first, while each sweep takes off at least a third of the error: it removes
+  // the local error and settles which particles carry pressure, cheaply. CG takes the long-wave
+  // rest, on that active set.
+  const PressureSolveStats sweeps = iterate(ctx, ps, p, dt, stepScale, errorScale, tolerance, Real(2) / 3, error);
+  if (sweeps.converged) return sweeps;
+  return iterateCg(ctx, ps, p, dt, stepScale, errorScale, tolerance, sweeps.iterations, error);
+}
+
 PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
   // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
   auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
-  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
-  return iterate(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
 }
 
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {
@@ -206,8 +227,7 @@ PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, Particle
     const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
     return dense ? rate_[i] : std::min(rate_[i], Real(0));
   };
-  if (settings_.conjugateGradient) return iterateCg(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
-  return iterate(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
+  return solve(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
 }
 
 }  // namespace mf

@@ -25,7 +25,7 @@
 // step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
 // them), iterate at least twice, and stop when the mean density error is below
 // `density_tolerance` (relative) and the mean divergence error times dt below
-// `divergence_tolerance`. Sums over particles run in fixed blocks, so the bits do not depend on
+// `divergence_tolerance`, and no particle's error is over 20 tolerances. Sums over particles run in fixed blocks, so the bits do not depend on
 // the number of threads.
 #pragma once
 
@@ -41,7 +41,7 @@ struct DfsphSettings {
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
   int maxIterations = 100;
   int minIterations = 2;
-  bool conjugateGradient = false;  // else projected Jacobi
+  bool conjugateGradient = true;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
 };
 
@@ -74,17 +74,25 @@ class DfsphSolver {
   /// velocity_i -= dt a_i for the pressure field `p` (the acceleration above).
   void applyPressure(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
                      std::vector<Vec3>& velocity) const;
-  /// The Jacobi iterations both solves share: p_i += omega error_i stepScale / D_i (kept >= 0)
-  /// until the mean |error| x errorScale is below `tolerance`.
+  /// What both solves share: the warm start, then projected Jacobi, or (conjugateGradient)
+  /// Jacobi sweeps while they converge fast and CG on the rest.
+  template <class Error>
+  PressureSolveStats solve(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
+                           Real errorScale, Real tolerance, Error&& error);
+
+  /// Jacobi iterations: p_i += omega error_i stepScale / D_i (kept >= 0) until the mean |error| x
+  /// errorScale is below `tolerance`, or (not converged) a sweep leaves more than `stallRatio` of
+  /// the error before it.
   template <class Error>
   PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                             Real errorScale, Real tolerance, Error&& error);
+                             Real errorScale, Real tolerance, Real stallRatio, Error&& error);
 
   /// The same solve by Jacobi-preconditioned conjugate gradients on the active set (the particles
-  /// that carry a pressure or are compressed), projected to p >= 0 between restarts.
+  /// that carry a pressure or are compressed), projected to p >= 0 between restarts; `used`
+  /// iterations are already spent.
   template <class Error>
   PressureSolveStats iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                               Real errorScale, Real tolerance, Error&& error);
+                               Real errorScale, Real tolerance, int used, Error&& error);
 
   DfsphSettings settings_;
   std::vector<Real> err_, x_, r_, z_, d_, q_;
