@@ -30,8 +30,25 @@ struct Result {
   std::string stopped;
 };
 
+// The scenes that ship on DFSPH carry no stiffness. Their WCSPH baseline is the scene as it
+// shipped on WCSPH: the pressure effect and its phases' stiffness.
+std::vector<std::string> wcsphBaseline(const std::string& scene) {
+  auto stiffness = [](std::initializer_list<const char*> phases, double k) {
+    std::vector<std::string> v = {"effects.pressure.enabled=true"};
+    for (const char* p : phases) v.push_back(fmt::format("phase.{}.stiffness={}", p, k));
+    return v;
+  };
+  if (scene == "dam_break") return stiffness({"water"}, 400);
+  if (scene == "two_fluids_mixed") return stiffness({"light", "heavy"}, 200);
+  return {};
+}
+
 Result run(const std::string& name, const std::string& solver, double end, const std::vector<std::string>& sets) {
   std::vector<std::string> all = {fmt::format("solver.pressure=\"{}\"", solver), fmt::format("scene.end_time={}", end)};
+  if (solver == "wcsph") {
+    const auto baseline = wcsphBaseline(name);
+    all.insert(all.end(), baseline.begin(), baseline.end());
+  }
   all.insert(all.end(), sets.begin(), sets.end());
   Result r;
   const auto t0 = std::chrono::steady_clock::now();

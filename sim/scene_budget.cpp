@@ -148,6 +148,20 @@ TimeStepLimit restTimeStep(const Scene& sc) {
   TimeStepLimit t;
   const Real s = sc.solver.particleSpacing, h = sc.solver.smoothingRatio * s;
   t.offer(sc.solver.maxDt, "solver.max_dt", "solver.max_dt");
+  if (sc.solver.pressure == PressureSolverChoice::DFSPH) {
+    // The flow sets DFSPH's step (cfl spacing / v_max). A fluid seeded at rest still falls: take
+    // the speed of a fall through its own height, sqrt(2 g H), or the seeded speed if faster.
+    Real g = 0, lowest = INFINITY, highest = -INFINITY, seeded = 0;
+    if (const EffectSpec* e = sc.effect("gravity")) g = length(e->vector("acceleration"));
+    for (const FluidBlockSpec& b : sc.fluids) {
+      Vec3 lo, hi;
+      b.bounds(lo, hi);
+      lowest = std::min(lowest, lo.y), highest = std::max(highest, hi.y);
+      seeded = std::max(seeded, length(b.velocity));
+    }
+    const Real speed = std::max(seeded, highest > lowest ? std::sqrt(2 * g * (highest - lowest)) : Real(0));
+    if (speed > 0) t.offer(sc.solver.cfl * s / speed, "the flow speed (a fall through the fluid's height, or its seeded speed)", "solver.cfl");
+  }
   for (size_t p = 0; p < sc.phases.size(); ++p) {
     const PhaseSpec& ph = sc.phases[p];
     if (sc.solver.pressure == PressureSolverChoice::WCSPH && ph.stiffness > 0)

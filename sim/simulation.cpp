@@ -369,8 +369,10 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
       // A container is never crossed: a particle that was inside (or on the wall, within
       // rounding) and would end outside is put back on the wall. Matters for splashes whose
       // density stays below rest density (no pressure, so no wall force) and violent steps.
+      // Above an open top there is no wall: a splash leaves over the rim.
       for (const SolidSpec& s : scene_.solids)
-        if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance)) clamps += clampToFluidRegion(s, x, v);
+        if (!insideFluidRegion(s, x) && insideFluidRegion(s, x0[i], onWallTolerance) && !aboveOpenTop(s, x0[i]))
+          clamps += clampToFluidRegion(s, x, v);
       ps_.velocity[i] = v;
       ps_.position[i] = x;
     }

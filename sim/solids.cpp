@@ -224,6 +224,16 @@ bool insideFluidRegion(const SolidSpec& s, const Vec3& p, Real m) {
   return true;
 }
 
+bool aboveOpenTop(const SolidSpec& s, const Vec3& p) {
+  if (!s.openTop) return false;
+  switch (s.shape) {
+    case SolidSpec::Shape::Box: return p.y > s.max.y;
+    case SolidSpec::Shape::Cylinder: return p.y > s.base.y + s.height;
+    case SolidSpec::Shape::Revolution: return false;  // always closed
+  }
+  return false;
+}
+
 namespace {
 
 // Keeps radial distance from the axis at most rmax; removes outward radial velocity.

@@ -45,6 +45,9 @@ BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernel
 /// True if p lies in the fluid region of the solid (inside a container), grown by `margin`.
 bool insideFluidRegion(const SolidSpec& solid, const Vec3& p, Real margin = 0);
 
+/// True if p is above the rim of an open-top container: out of it, over no wall.
+bool aboveOpenTop(const SolidSpec& solid, const Vec3& p);
+
 /// Moves a particle that has crossed a wall back onto the wall and removes the velocity
 /// component into the wall. Returns true if it had to.
 bool clampToFluidRegion(const SolidSpec& solid, Vec3& p, Vec3& v);

@@ -119,10 +119,11 @@ set +e; "$bin" run "${base[@]}" --out "$work/dmg" > dmg5.log 2>&1; status=$?; se
 echo "damaged files: particle, surface and checkpoint files named; a damaged frame and image redone, identical"
 
 # --- Scenes that would hang or swamp the machine: refused up front, or stopped when dt collapses ---
-sed 's|^stiffness = .*|stiffness = 1e10|' "$src_dam" > stiff.toml
+# The stiffness sets the step on WCSPH (the shipped dam break runs on DFSPH, which has none).
+sed 's|^pressure = "dfsph"|pressure = "wcsph"|; s|^\(rest_density = .*\)|\1\nstiffness = 1e10|' "$src_dam" > stiff.toml
 set +e; "$bin" validate stiff.toml > stiff.out 2>&1; status=$?; set -e
 [ "$status" -eq 2 ] && grep -q "stiff.toml:[0-9]*: key 'phase\[0\].stiffness'.*steps per frame" stiff.out || fail "stiffness 1e10 not refused: $(cat stiff.out)"
-set +e; "$bin" run "${base[@]}" --set phase.water.stiffness=1e8 --force --max-steps-per-frame 300 --out "$work/stiff" > stiff2.out 2>&1
+set +e; "$bin" run "${base[@]}" --set 'solver.pressure="wcsph"' --set effects.pressure.enabled=true --set phase.water.stiffness=1e8 --force --max-steps-per-frame 300 --out "$work/stiff" > stiff2.out 2>&1
 status=$?; set -e
 [ "$status" -eq 3 ] && grep -q "time step has collapsed" stiff2.out && grep -q "set by the sound speed" stiff2.out ||
   fail "a collapsing dt did not stop the run (exit $status): $(tail -3 stiff2.out)"

@@ -66,7 +66,7 @@ TEST(Determinism, BitIdenticalAcrossThreadCounts) {
     if (reference.empty()) {
       reference = bytes;
       referenceFile = fileBytes(file);
-      EXPECT_GT(sim.stepCount(), 300u);
+      EXPECT_GT(sim.stepCount(), 50u);  // DFSPH: 78 steps to 0.15 s, the front at the far wall
     } else {
       EXPECT_TRUE(bytes == reference) << threads << " threads: state differs from 1 thread";
       EXPECT_TRUE(fileBytes(file) == referenceFile) << threads << " threads: file bytes differ";

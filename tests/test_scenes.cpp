@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -11,7 +12,7 @@
 namespace {
 
 // Water thrown into a glass (open-top cylinder) and into a closed vessel of revolution.
-const char* kContainers = R"(
+const std::string kHeader = R"(
 [scene]
 name = "containers"
 end_time = 0.4
@@ -25,6 +26,11 @@ name = "water"
 rest_density = 1000.0
 stiffness = 600.0
 viscosity = 0.05
+[effects.gravity]
+[effects.pressure]
+[effects.viscosity]
+)";
+const std::string kGlass = R"(
 [[solid]]
 name = "glass"
 shape = "cylinder"
@@ -32,29 +38,33 @@ base = [-0.1, 0.0, 0.0]
 radius = 0.05
 height = 0.15
 open_top = true
-[[solid]]
-name = "vessel"
-shape = "revolution"
-base = [0.1, 0.0, 0.0]
-profile = [[0.0, 0.03], [0.05, 0.06], [0.15, 0.03], [0.2, 0.04]]
 [[fluid]]
 shape = "sphere"
 phase = "water"
 centre = [-0.1, 0.06, 0.0]
 radius = 0.04
 velocity = [0.3, -0.5, 0.5]
+)";
+const std::string kVessel = R"(
+[[solid]]
+name = "vessel"
+shape = "revolution"
+base = [0.1, 0.0, 0.0]
+profile = [[0.0, 0.03], [0.05, 0.06], [0.15, 0.03], [0.2, 0.04]]
 [[fluid]]
 phase = "water"
 min = [0.075, 0.03, -0.025]
 max = [0.125, 0.12, 0.025]
 velocity = [1.5, -2.0, 0.0]
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
 )";
 
-TEST(Scenes, FluidNeverCrossesContainerWalls) {
-  const mf::Scene scene = mf::parseScene(kContainers, "containers");
+// Counts the particles that end a step outside the container they started in.
+struct Crossings {
+  uint64_t escaped = 0, clamps = 0;
+};
+
+Crossings throwIntoContainers(const std::string& containers, const std::vector<std::string>& overrides) {
+  const mf::Scene scene = mf::parseScene(kHeader + containers, "containers", overrides);
   mf::Simulation sim(scene);
   const auto& ps = sim.particles();
   // Which container each particle starts in (by id: ids are stable, arrays get re-sorted).
@@ -62,23 +72,45 @@ TEST(Scenes, FluidNeverCrossesContainerWalls) {
   for (size_t i = 0; i < ps.size(); ++i)
     for (size_t s = 0; s < scene.solids.size(); ++s)
       if (mf::insideFluidRegion(scene.solids[s], ps.position[i])) home[ps.id[i]] = int(s);
-  ASSERT_EQ(std::count(home.begin(), home.end(), -1), 0);
+  EXPECT_EQ(std::count(home.begin(), home.end(), -1), 0);
+  if (std::count(home.begin(), home.end(), -1) > 0) return {~0ull, 0};
   const size_t n0 = ps.size();
   uint64_t escaped = 0;
+  std::vector<char> overTheRim(ps.size(), 0);  // left through the open top: free from then on
   sim.advanceTo(scene.endTime, [&](const mf::Simulation& s) {
     for (size_t i = 0; i < s.particles().size(); ++i) {
-      const mf::SolidSpec& c = scene.solids[home[s.particles().id[i]]];
-      mf::Vec3 x = s.particles().position[i];
-      if (c.openTop) x.y = std::min(x.y, c.base.y + c.height);  // leaving through the open top is allowed
-      escaped += mf::insideFluidRegion(c, x) ? 0 : 1;
+      const uint32_t id = s.particles().id[i];
+      const mf::SolidSpec& c = scene.solids[home[id]];
+      const mf::Vec3 x = s.particles().position[i];
+      if (mf::aboveOpenTop(c, x)) overTheRim[id] = 1;
+      escaped += overTheRim[id] || mf::insideFluidRegion(c, x) ? 0 : 1;
     }
   });
-  EXPECT_EQ(escaped, 0u);
-  EXPECT_EQ(sim.particles().size(), n0);
-  EXPECT_EQ(sim.counters().removedOutOfDomain, 0u);
-  // The splash does reach the walls hard enough for the last-resort clamp to act: the test
-  // exercises it rather than passing because nothing came near a wall.
-  EXPECT_GT(sim.counters().wallClamps, 0u);
+  // Only what left over the rim may leave the domain (it falls past the glass to the floor).
+  const auto rimLeavers = uint64_t(std::count(overTheRim.begin(), overTheRim.end(), 1));
+  EXPECT_EQ(sim.particles().size() + sim.counters().removedOutOfDomain, n0);
+  EXPECT_LE(sim.counters().removedOutOfDomain, rimLeavers);
+  std::printf("containers (%s): %llu over the rim, %llu clamps\n", overrides.empty() ? "wcsph" : overrides[0].c_str(),
+              static_cast<unsigned long long>(rimLeavers), static_cast<unsigned long long>(sim.counters().wallClamps));
+  return {escaped, sim.counters().wallClamps};
+}
+
+TEST(Scenes, FluidNeverCrossesContainerWalls) {
+  // WCSPH: the splash reaches the walls hard enough for the last-resort clamp to act, so the
+  // test exercises the clamp rather than passing because nothing came near a wall.
+  const Crossings wcsph = throwIntoContainers(kGlass + kVessel, {});
+  EXPECT_EQ(wcsph.escaped, 0u);
+  EXPECT_GT(wcsph.clamps, 0u);
+}
+
+TEST(Scenes, DfsphHoldsASplashInTheGlassWithoutAClamp) {
+  // The glass's throw on DFSPH: the boundary samples in the solve alone keep every particle
+  // inside, up to those that leave over the rim. (Not yet the vessel's: its 2.5 m/s throw leaves
+  // films at rho/rho0 0.87, without pressure, sliding down the 59-degree cone below the bulge,
+  // and those cross it: 4 567 clamps, docs/pressure_solvers.md.)
+  const Crossings dfsph = throwIntoContainers(kGlass, {"solver.pressure=\"dfsph\""});
+  EXPECT_EQ(dfsph.escaped, 0u);
+  EXPECT_EQ(dfsph.clamps, 0u);
 }
 
 TEST(Scenes, TwoFluidsMixedLightFluidEndsOnTop) {
@@ -119,6 +151,8 @@ TEST(Scenes, TwoFluidsMixedLightFluidEndsOnTop) {
       ++lightTotal;
       lightBelow += sim.particles().position[i].y < median;
     }
+  std::printf("two_fluids_mixed: %d of %d light particles (%.1f %%) below the heavy fluid's median height\n", lightBelow,
+              lightTotal, 100.0 * lightBelow / lightTotal);
   EXPECT_LT(lightBelow, lightTotal / 10);
 }
 

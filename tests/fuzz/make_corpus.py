@@ -144,8 +144,16 @@ class Doc:
                 return i
         return None
 
+    def ensure_effect(self, sec):
+        """Appends an empty [effects.X] the scene leaves out (the shipped scenes on DFSPH have no
+        [effects.pressure]), so that its keys can be mutated."""
+        if sec.startswith("effects.") and not any(h[1] == sec for h in self.headers()):
+            self.lines.append("[%s]" % sec)
+        return self
+
     def set(self, sec, key, value, idx=0):
         """Sets (or adds) `key = value` in a table; the line's comment goes."""
+        self.ensure_effect(sec)
         li = self.key_line(sec, key, idx)
         text = "%s = %s" % (key, tv(value))
         if li is None:
@@ -169,6 +177,7 @@ class Doc:
         return self
 
     def add_line(self, sec, text, idx=0):
+        self.ensure_effect(sec)
         s, _ = self.section(sec, idx)
         self.lines.insert(s + 1, text)
         return self
@@ -414,8 +423,10 @@ def gen_crashes(corpus, c, rng):
 
 def gen_hangs(corpus, c, rng):
     for cfg in CONFIG_NAMES:
-        one(corpus, c, "hang_stiffness", cfg, "phase", "stiffness", 1e10, expect="line",
-            note="c = 1e5 m/s: dt collapses")
+        # The shipped scenes run on DFSPH, which has no stiffness: on WCSPH it sets the step.
+        d = c.edit(cfg).set("solver", "pressure", "wcsph").set("phase", "stiffness", 1e10)
+        corpus.add("hang_stiffness", cfg, "solver.pressure = \"wcsph\", phase[0].stiffness = 1e10 (c = 1e5 m/s: dt collapses)",
+                   d.text(), expect="line", check="valid", sets=[(("solver", "pressure"), "wcsph"), (("phase", 0, "stiffness"), 1e10)])
     for cfg in CONFIG_NAMES:
         one(corpus, c, "hang_cfl", cfg, "solver", "cfl", 1e-12, expect="line", note="dt collapses to min_dt")
     # Not lava_lamp: its wax at 10 m^2/s steps at 7.3e-6 s (measured), 1.3e4 steps per frame,
