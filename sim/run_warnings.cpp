@@ -27,7 +27,7 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
         scene.solver.pressure == PressureSolverChoice::WCSPH ? "; the implicit solver's walls need none: solver.pressure = \"dfsph\"" : ""));
   if (c.retries > 0) w.push_back(fmt::format("{} steps were retried with a smaller dt; the last at {}", c.retries, sim.lastRetry()));
   if (c.maxDensityError > 0.1)
-    w.push_back(fmt::format("the fluid was compressed by up to {:.1f} % somewhere (over 10 %: volume is not kept; {})",
+    w.push_back(fmt::format("the most compressed particle reached {:.1f} % (over 10 %: the volume is not kept there; {})",
                             100 * c.maxDensityError,
                             scene.solver.pressure == PressureSolverChoice::WCSPH ? "raise the phases' stiffness, or use solver.pressure = \"dfsph\""
                                                                                  : "lower solver.cfl or solver.density_tolerance"));
