@@ -100,10 +100,10 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
     // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
     const Real sum = blockSum(n, [&](size_t i) {
       const Real err = error(i);
-      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + kRelaxation * err * stepScale / diagonal_[i]) : Real(0);
+      const Real next = diagonal_[i] > 0 ? std::max(lower_[i], p[i] + kRelaxation * err * stepScale / diagonal_[i]) : lower_[i];
       delta_[i] = next - p[i];
       // The error left: compression anywhere, and expansion where a pressure still pushes.
-      return (next > 0 ? std::fabs(err) : std::max(err, Real(0))) * errorScale;
+      return (next > lower_[i] ? std::fabs(err) : std::max(err, Real(0))) * errorScale;
     });
     stats.iterations = it;
     stats.meanError = sum / Real(n);
@@ -147,9 +147,9 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
       const Real e = error(i);
       err_[i] = e;
       // A particle with no neighbour and no wall (D_i = 0) cannot be corrected: it holds no pressure.
-      active_[i] = diagonal_[i] > 0 && (p[i] > 0 || e > 0);
+      active_[i] = diagonal_[i] > 0 && (p[i] > lower_[i] || e > 0);
       // The error left: compression anywhere, and expansion where a pressure still pushes.
-      return (p[i] > 0 ? std::fabs(e) : std::max(e, Real(0))) * errorScale;
+      return (p[i] > lower_[i] ? std::fabs(e) : std::max(e, Real(0))) * errorScale;
     });
     stats.iterations = used;
     stats.meanError = sum / Real(n);
@@ -190,7 +190,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
       for (size_t i = 0; i < n; ++i) d_[i] = z_[i] + beta * d_[i];
     }
     for (size_t i = 0; i < n; ++i) {
-      const Real next = diagonal_[i] > 0 ? std::max(Real(0), p[i] + x_[i] / restVolume(i)) : Real(0);
+      const Real next = diagonal_[i] > 0 ? std::max(lower_[i], p[i] + x_[i] / restVolume(i)) : lower_[i];
       delta_[i] = next - p[i];
       p[i] = next;
     }
@@ -217,10 +217,30 @@ PressureSolveStats DfsphSolver::solve(const StepContext& ctx, ParticleSet& ps, s
 PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
   // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
   auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
-  return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  const size_t n = ps.size();
+  lower_.assign(n, 0);
+  const Reference& ref = settings_.reference;
+  if (ref.weight <= 0) return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  // Hydrostatic reference: the solve works on p' = p - p_ref, with p_ref = rho_ref |g| (level -
+  // height) below the level, and the exact -grad p_ref / rho0_i = rho_ref |g| / rho0_i (upward)
+  // goes into v* as a body force. p >= 0 becomes p' >= -p_ref. The same momentum equation, with
+  // the pair and wall sums carrying only the perturbation (effects/pressure.cpp, WCSPH's form).
+  std::vector<Real>& p = ps.pressure;
+  for (size_t i = 0; i < n; ++i) {
+    const Real depth = ref.level - dot(ps.position[i], ref.up);
+    if (depth <= 0) continue;
+    const Real pref = ref.weight * depth;
+    p[i] -= pref;
+    lower_[i] = -pref;
+    ps.velocity[i] += ref.up * (dt * ref.weight / ps.restDensity[i]);
+  }
+  const PressureSolveStats stats = solve(ctx, ps, p, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  for (size_t i = 0; i < n; ++i) p[i] -= lower_[i];
+  return stats;
 }
 
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {
+  lower_.assign(ps.size(), 0);
   // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free surface,
   // a splash) it may expand, and only a pressure left from before is undone.
   auto error = [&](size_t i) {

@@ -36,6 +36,14 @@
 
 namespace mf {
 
+/// Hydrostatic reference of the constant-density solve (weight 0: none): p_ref = weight x
+/// (level - height along `up`) below the level.
+struct Reference {
+  Real weight = 0;  // rho_ref |g|, Pa/m
+  Real level = 0;   // m, along up
+  Vec3 up;
+};
+
 struct DfsphSettings {
   Real densityTolerance = 5e-4;     // mean (theta* - 1), relative: 0.05 %
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
@@ -43,6 +51,7 @@ struct DfsphSettings {
   int minIterations = 2;
   bool conjugateGradient = true;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
+  Reference reference;  // effects.pressure.reference_density and reference_level
 };
 
 struct PressureSolveStats {
@@ -99,6 +108,7 @@ class DfsphSolver {
   std::vector<char> active_;
   std::vector<Vec3> scratchVelocity_;
   std::vector<Real> diagonal_, rate_, delta_;
+  std::vector<Real> lower_;  // the least pressure each particle may hold (0, or -p_ref)
   std::vector<Vec3> fluidGrad_, wallGrad_;  // per neighbour pair, from computeDiagonal
 };
 
