@@ -31,7 +31,8 @@ struct Result {
 };
 
 // The scenes that ship on DFSPH carry no stiffness. Their WCSPH baseline is the scene as it
-// shipped on WCSPH: the pressure effect, its phases' stiffness and water_oil's gradient correction.
+// shipped on WCSPH: the pressure effect, its phases' stiffness, the gradient correction, and the
+// lamp's interface tension.
 std::vector<std::string> wcsphBaseline(const std::string& scene) {
   auto stiffness = [](std::initializer_list<const char*> phases, double k) {
     std::vector<std::string> v = {"effects.pressure.enabled=true"};
@@ -40,6 +41,11 @@ std::vector<std::string> wcsphBaseline(const std::string& scene) {
   };
   if (scene == "dam_break") return stiffness({"water"}, 400);
   if (scene == "two_fluids_mixed") return stiffness({"light", "heavy"}, 200);
+  if (scene == "lava_lamp") {
+    auto v = stiffness({"fluid", "wax"}, 500);
+    v.insert(v.end(), {"effects.pressure.gradient_correction=1", "effects.interface_tension.sigma=8"});
+    return v;
+  }
   if (scene == "water_oil") {
     auto v = stiffness({"water", "oil"}, 200);
     v.push_back("effects.pressure.gradient_correction=1");
