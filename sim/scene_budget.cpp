@@ -151,12 +151,18 @@ TimeStepLimit restTimeStep(const Scene& sc) {
   if (sc.solver.pressure == PressureSolverChoice::DFSPH) {
     // The flow sets DFSPH's step (cfl spacing / v_max). A fluid seeded at rest still falls: take
     // the speed of a fall through its own height, sqrt(2 g H), or the seeded speed if faster.
-    Real g = 0, lowest = INFINITY, highest = -INFINITY, seeded = 0;
-    if (const EffectSpec* e = sc.effect("gravity")) g = length(e->vector("acceleration"));
+    Vec3 gv;
+    if (const EffectSpec* e = sc.effect("gravity")) gv = e->vector("acceleration");
+    const Real g = length(gv);
+    const Vec3 up = g > 0 ? gv * (-1 / g) : Vec3(0, 1, 0);
+    Real lowest = INFINITY, highest = -INFINITY, seeded = 0;
     for (const FluidBlockSpec& b : sc.fluids) {
       Vec3 lo, hi;
       b.bounds(lo, hi);
-      lowest = std::min(lowest, lo.y), highest = std::max(highest, hi.y);
+      // The block's bounding box along up: its lowest and highest corner.
+      Real below = 0, above = 0;
+      for (int k = 0; k < 3; ++k) below += std::min(up[k] * lo[k], up[k] * hi[k]), above += std::max(up[k] * lo[k], up[k] * hi[k]);
+      lowest = std::min(lowest, below), highest = std::max(highest, above);
       seeded = std::max(seeded, length(b.velocity));
     }
     const Real speed = std::max(seeded, highest > lowest ? std::sqrt(2 * g * (highest - lowest)) : Real(0));

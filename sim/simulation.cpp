@@ -143,14 +143,11 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
     ds.maxIterations = st.maxPressureIterations;
     ds.conjugateGradient = st.conjugateGradient;
     ds.wallFactor = wall0.mirrorFactor;
-    // The pressure table's hydrostatic reference carries over to the implicit solve.
+    // The pressure table's hydrostatic reference carries over to the implicit solve (not while
+    // gravity ramps in: the reference is the full weight).
     const EffectSpec* pressure = scene_.effect("pressure");
     const EffectSpec* gravity = scene_.effect("gravity");
-    if (pressure && gravity && pressure->number("reference_density") > 0 && gravity->number("ramp_time") == 0) {
-      const Vec3 g = gravity->vector("acceleration");
-      const Real gn = length(g);
-      if (gn > 0) ds.reference = {pressure->number("reference_density") * gn, pressure->number("reference_level"), g * (-1 / gn)};
-    }
+    if (pressure && gravity && gravity->number("ramp_time") == 0) ds.reference = HydrostaticReference::of(*pressure, scene_);
     dfsph_ = std::make_unique<DfsphSolver>(ds);
     attributes |= bit(Attribute::DivergencePressure);
   }

@@ -28,6 +28,7 @@
 #include <cmath>
 
 #include "builtin.h"
+#include "sim/hydrostatic_reference.h"
 
 namespace mf::effects {
 
@@ -65,14 +66,8 @@ struct Mat3 {
 
 class Pressure final : public Effect {
  public:
-  Pressure(Real wallScale, bool correctGradient, Real referenceDensity, Real referenceLevel, const Vec3& g)
-      : wallScale_(wallScale), correct_(correctGradient), refLevel_(referenceLevel) {
-    const Real gn = length(g);
-    if (referenceDensity > 0 && gn > 0) {
-      up_ = g * (-1 / gn);
-      refWeight_ = referenceDensity * gn;  // |grad p_ref|, Pa/m
-    }
-  }
+  Pressure(Real wallScale, bool correctGradient, const HydrostaticReference& reference)
+      : wallScale_(wallScale), correct_(correctGradient), ref_(reference) {}
   const char* name() const override { return "pressure"; }
 
   void accumulateForces(const StepContext& ctx, ParticleSet& ps) override {
@@ -84,10 +79,10 @@ class Pressure final : public Effect {
     const NeighborLists& nb = ctx.boundaryNeighbors;
     if (correct_) computeCorrection(ctx, ps);
     const Mat3* L = correct_ ? correction_.data() : nullptr;
-    if (refWeight_ > 0) {
+    if (ref_.active()) {
       perturbation_.resize(ps.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) perturbation_[i] = p[i] - referencePressure(x[i]);
+        for (size_t i = r.begin(); i != r.end(); ++i) perturbation_[i] = p[i] - ref_.pressure(x[i]);
       });
       p = perturbation_.data();
     }
@@ -115,7 +110,7 @@ class Pressure final : public Effect {
           sum += L ? L[i] * wall : wall;
         }
         ps.force[i] -= sum * V[i];
-        if (refWeight_ > 0 && dot(xi, up_) < refLevel_) ps.force[i] += up_ * (refWeight_ * V[i]);
+        if (ref_.active() && ref_.depth(xi) > 0) ps.force[i] += ref_.up * (ref_.weight * V[i]);
       }
     });
   }
@@ -162,13 +157,9 @@ class Pressure final : public Effect {
     });
   }
 
-  Real referencePressure(const Vec3& x) const { return refWeight_ * std::max(Real(0), refLevel_ - dot(x, up_)); }
-
   Real wallScale_;
   bool correct_;
-  Real refLevel_;
-  Real refWeight_ = 0;  // rho_ref |g|; 0: no reference
-  Vec3 up_;
+  HydrostaticReference ref_;
   std::vector<Mat3> correction_;
   std::vector<Real> perturbation_;
 };
@@ -183,10 +174,8 @@ EffectInfo pressureInfo() {
            {"reference_density", 1, 0, 1e5, {0.0}, "kg/m^3", "hydrostatic reference subtracted from the pressure in the pair forces and added back exactly as a body force (0: none); the densest liquid's rest density with reference_level where a column of it weighs what the liquids weigh keeps the remainder repulsive"},
            {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface where the reference pressure is 0; it grows as rho_ref |g| depth below"}},
           [](const EffectSpec& spec, const Scene& scene) {
-            const EffectSpec* g = scene.effect("gravity");
             return std::make_unique<Pressure>(spec.number("wall_scale"), spec.number("gradient_correction") > 0.5,
-                                              spec.number("reference_density"), spec.number("reference_level"),
-                                              g ? g->vector("acceleration") : Vec3{});
+                                              HydrostaticReference::of(spec, scene));
           }};
   info.check = [](const EffectSpec& spec, const Scene& scene) {
     std::vector<std::pair<std::string, std::string>> problems;

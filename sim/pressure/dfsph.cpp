@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace mf {
 
@@ -85,6 +86,10 @@ void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, c
   });
 }
 
+bool DfsphSolver::converged(int used, const PressureSolveStats& s, Real tolerance) const {
+  return used >= settings_.minIterations && s.meanError <= tolerance && s.maxError <= kWorstError * tolerance;
+}
+
 template <class Error>
 PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
                                         Real errorScale, Real tolerance, Real stallRatio, Error&& error) {
@@ -108,7 +113,7 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
     stats.iterations = it;
     stats.meanError = sum / Real(n);
     stats.maxError = parallelMax(n, [&](size_t i) { return error(i) * errorScale; });
-    if (it >= settings_.minIterations && stats.meanError <= tolerance && stats.maxError <= kWorstError * tolerance) return stats;
+    if (converged(it, stats, tolerance)) return stats;
     // Stalled: the sweeps have removed the local error, what is left is long-wave (CG's part).
     if (it >= settings_.minIterations && stats.meanError > stallRatio * previous) {
       stats.converged = false;
@@ -154,7 +159,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
     stats.iterations = used;
     stats.meanError = sum / Real(n);
     stats.maxError = parallelMax(n, [&](size_t i) { return err_[i] * errorScale; });
-    if (used >= settings_.minIterations && stats.meanError <= tolerance && stats.maxError <= kWorstError * tolerance) return stats;
+    if (converged(used, stats, tolerance)) return stats;
     if (used >= settings_.maxIterations) break;
     Real rz = blockSum(n, [&](size_t i) {
       x_[i] = 0;
@@ -205,7 +210,8 @@ PressureSolveStats DfsphSolver::solve(const StepContext& ctx, ParticleSet& ps, s
                                       Real errorScale, Real tolerance, Error&& error) {
   // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
   applyPressure(ctx, ps, p, dt, ps.velocity);
-  if (!settings_.conjugateGradient) return iterate(ctx, ps, p, dt, stepScale, errorScale, tolerance, Real(1e30), error);
+  if (!settings_.conjugateGradient)
+    return iterate(ctx, ps, p, dt, stepScale, errorScale, tolerance, std::numeric_limits<Real>::infinity(), error);
   // Projected Jacobi first, while each sweep takes off at least a third of the error: it removes
   // the local error and settles which particles carry pressure, cheaply. CG takes the long-wave
   // rest, on that active set.
@@ -219,15 +225,15 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
   const size_t n = ps.size();
   lower_.assign(n, 0);
-  const Reference& ref = settings_.reference;
-  if (ref.weight <= 0) return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  const HydrostaticReference& ref = settings_.reference;
+  if (!ref.active()) return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
   // Hydrostatic reference: the solve works on p' = p - p_ref, with p_ref = rho_ref |g| (level -
   // height) below the level, and the exact -grad p_ref / rho0_i = rho_ref |g| / rho0_i (upward)
   // goes into v* as a body force. p >= 0 becomes p' >= -p_ref. The same momentum equation, with
   // the pair and wall sums carrying only the perturbation (effects/pressure.cpp, WCSPH's form).
   std::vector<Real>& p = ps.pressure;
   for (size_t i = 0; i < n; ++i) {
-    const Real depth = ref.level - dot(ps.position[i], ref.up);
+    const Real depth = ref.depth(ps.position[i]);
     if (depth <= 0) continue;
     const Real pref = ref.weight * depth;
     p[i] -= pref;

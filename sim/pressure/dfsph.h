@@ -32,17 +32,10 @@
 #include <string>
 
 #include "sim/effect.h"
+#include "sim/hydrostatic_reference.h"
 #include "sim/particles.h"
 
 namespace mf {
-
-/// Hydrostatic reference of the constant-density solve (weight 0: none): p_ref = weight x
-/// (level - height along `up`) below the level.
-struct Reference {
-  Real weight = 0;  // rho_ref |g|, Pa/m
-  Real level = 0;   // m, along up
-  Vec3 up;
-};
 
 struct DfsphSettings {
   Real densityTolerance = 5e-4;     // mean (theta* - 1), relative: 0.05 %
@@ -51,7 +44,7 @@ struct DfsphSettings {
   int minIterations = 2;
   bool conjugateGradient = true;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
-  Reference reference;  // effects.pressure.reference_density and reference_level
+  HydrostaticReference reference;  // of the constant-density solve
 };
 
 struct PressureSolveStats {
@@ -92,6 +85,10 @@ class DfsphSolver {
   /// Jacobi iterations: p_i += omega error_i stepScale / D_i (kept >= 0) until the mean |error| x
   /// errorScale is below `tolerance`, or (not converged) a sweep leaves more than `stallRatio` of
   /// the error before it.
+  /// The stop both iterations share: at least minIterations, the mean error within `tolerance`
+  /// and no particle's over kWorstError tolerances.
+  bool converged(int used, const PressureSolveStats& s, Real tolerance) const;
+
   template <class Error>
   PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
                              Real errorScale, Real tolerance, Real stallRatio, Error&& error);
