@@ -51,6 +51,7 @@ std::vector<std::string> wcsphBaseline(const std::string& scene) {
     v.push_back("effects.pressure.gradient_correction=1");
     return v;
   }
+  if (scene == "boiling") return stiffness({"water", "vapour", "flame"}, 400);
   return {};
 }
 

@@ -12,10 +12,12 @@
 //    fast that the particle's compression rho/rho0 - 1 exceeds 25 % (half the watchdog's default
 //    limit): the vapour pushes the water aside (the bubble grows) at the pace the pressure can
 //    move it. Jumping straight to the vapour's rest density would make the particle 10x
-//    compressed, which the watchdog rightly refuses. With mass kept and the number-density
-//    formulation a particle can reach rho0_v only if it has few neighbours within h: a lone
-//    particle's own kernel weight is about 0.2 of a full neighbourhood, so a vapour rest density
-//    of 0.3 rho0_w or more is the useful range (the scene uses 300 kg/m^3).
+//    compressed, which the watchdog rightly refuses. With mass kept a particle's density never
+//    falls below its own kernel weight and the wall's share (0.385 rho0_w at h = 2 spacings), so
+//    the expansion also stops where the neighbours still give a fifth of the density
+//    (reachable()): a rest density below that is an error no pressure can remove. A bubble's
+//    vapour thus ends at max(rho0_v, about 480 kg/m^3 at h = 2 spacings), and "finished
+//    expanding" means within 5 % of that.
 //  - Condensation. Vapour colder than boiling_temperature - condensation_margin becomes liquid
 //    again: phase, rest density, viscosity, stiffness and colours of the liquid (at once: an
 //    under-dense particle has zero pressure, nothing to refuse).
@@ -109,6 +111,13 @@ class PhaseChange final : public Effect {
     const Real r2site = (p_.siteRadius * ctx.particleSpacing) * (p_.siteRadius * ctx.particleSpacing);
     const Real wall = p_.wallDistance * ctx.particleSpacing;
     change_.assign(n, 0);
+    // Where each vapour particle's expansion ends: the vapour's rest density, or the least it
+    // can reach (reachable()), whichever is higher.
+    expanded_.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i)
+        if (ps.phase[i] == p_.vapour) expanded_[i] = std::max(vapour_.restDensity, reachable(ctx, ps, i));
+    });
     tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const auto& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
         const Real T = ps.temperature[i];
@@ -136,15 +145,15 @@ class PhaseChange final : public Effect {
           // water a step's diffusion had pushed past 100 deg C; the vapour piled up under the
           // water (287 particles at 4 s, 821 at 4.5 s) and threw 150 particles out of the domain.
           if (p_.saturated) continue;
-          // Growth from vapour that has finished expanding (rest density within 5 % of the
-          // vapour's): a bubble takes in the hot water at its wall one shell at a time, at the
-          // pace of the expansion. Measured without that condition: in a pool at 105 deg C the
+          // Growth from vapour that has finished expanding (rest density within 5 % of where
+          // its expansion ends): a bubble takes in the hot water at its wall one shell at a
+          // time, at the pace of the expansion. Measured without that condition: in a pool at 105 deg C the
           // vapour front crossed a neighbourhood every step (200 m/s) and 1 088 of 1 152
           // particles flashed to vapour and left within 0.1 s.
           bool grows = false;
           for (uint64_t k = nf.begin(i), e = nf.end(i); k < e && !grows; ++k) {
             const uint32_t j = nf.indices[k];
-            grows = ps.phase[j] == p_.vapour && ps.restDensity[j] <= 1.05 * vapour_.restDensity;
+            grows = ps.phase[j] == p_.vapour && ps.restDensity[j] <= 1.05 * expanded_[j];
           }
           change_[i] = grows ? 1 : 0;
         } else if (ps.phase[i] == p_.vapour && T < p_.boiling - p_.margin) {
@@ -158,9 +167,10 @@ class PhaseChange final : public Effect {
         if (change_[i] == 1 || change_[i] == 3) becomes(ps, i, p_.vapour, vapour_, ps.restDensity[i]);
         else if (change_[i] == 2) becomes(ps, i, p_.liquid, liquid_, liquid_.restDensity);
         else if (ps.phase[i] == p_.vapour) {
-          // Expansion towards the vapour's rest density, at most 25 % compression at a time.
-          const Real target = std::max(ps.restDensity[i] * decay, ps.density[i] / 1.25);
-          ps.restDensity[i] = std::max(vapour_.restDensity, std::min(ps.restDensity[i], target));
+          // Expansion towards the vapour's rest density, at most 25 % compression at a time, and
+          // no lower than the particle can reach (reachable(), eq. 3's own term).
+          const Real target = std::max({ps.restDensity[i] * decay, ps.density[i] / 1.25, expanded_[i]});
+          ps.restDensity[i] = std::min(ps.restDensity[i], target);
         }
         // Saturated: heat that takes vapour, or liquid off the glass, beyond the boiling
         // temperature is latent heat (it evaporates water, which leaves as vapour at the
@@ -242,6 +252,26 @@ class PhaseChange final : public Effect {
   const std::vector<Vec3>& sites() const { return sites_; }
 
  private:
+  // The lowest rest density particle i can be held at. Its density never falls below its own
+  // kernel weight and the wall's share, m_i W(0) + rho0_i sum_b V_b W_ib (simulation.cpp), even
+  // with every fluid neighbour pushed out of h: with the water's mass that is 0.385 rho0_w at
+  // h = 2 spacings. A rest density below it is an error no pressure can remove; DFSPH then
+  // raises the pressure on the last neighbours at the kernel's edge without bound (measured at
+  // 1 cm: rho0 = 362 under a floor of 382, 1.7 MPa, 1 291 m/s the next step). The expansion
+  // stops where the neighbours still give a fifth of the density (kReach), as much as the
+  // per-step cap lets one step compress.
+  static Real reachable(const StepContext& ctx, const ParticleSet& ps, size_t i) {
+    constexpr Real kReach = 1.25;
+    Real wall = 0;
+    for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+      const uint32_t b = ctx.boundaryNeighbors.indices[k];
+      wall += ctx.boundary.volume[b] * ctx.kernels.densityChecked(lengthSquared(ctx.boundary.position[b] - ps.position[i]));
+    }
+    // rho0 >= kReach (m W(0) + rho0 wall)
+    const Real free = 1 - kReach * wall;
+    return free > 0 ? kReach * ps.mass[i] * ctx.kernels.selfWeight / free : ps.restDensity[i];
+  }
+
   static void becomes(ParticleSet& ps, size_t i, uint16_t phase, const PhaseSpec& ph, Real restDensity) {
     ps.phase[i] = phase;
     ps.restDensity[i] = restDensity;
@@ -256,6 +286,7 @@ class PhaseChange final : public Effect {
   std::vector<Vec3> sites_;
   std::vector<SolidSpec> solids_;
   std::vector<uint8_t> isLiquid_, want_, change_, leave_;
+  std::vector<Real> expanded_;
   ColourGradients grad_;
   uint64_t evaporated_ = 0, condensed_ = 0, left_ = 0, atSites_ = 0;
 };
