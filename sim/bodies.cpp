@@ -5,30 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
+#include "disjoint_sets.h"
 #include "neighbor_search.h"
 
 namespace mf {
 
 namespace {
-
-// Union-find whose root is always the smallest index of its set, so the result does not depend
-// on the order the links are visited in.
-uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t i) {
-  while (parent[i] != i) {
-    parent[i] = parent[parent[i]];
-    i = parent[i];
-  }
-  return i;
-}
-
-void unite(std::vector<uint32_t>& parent, uint32_t a, uint32_t b) {
-  a = findRoot(parent, a), b = findRoot(parent, b);
-  if (a == b) return;
-  if (a < b) parent[b] = a;
-  else parent[a] = b;
-}
 
 Real roundnessOf(const Vec3* x, const std::vector<uint32_t>& members, const Vec3& centroid) {
   if (members.size() < 4) return 1;
@@ -55,18 +38,17 @@ FluidBodies findBodies(const Vec3* x, const int32_t* phase, size_t n, Real linkD
   grid.build(x, n, lo - Vec3(linkDistance, linkDistance, linkDistance), linkDistance);
   NeighborLists near;
   grid.findNeighbors(grid, linkDistance, true, near);
-  std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets sets(n);
   for (size_t i = 0; i < n; ++i)
     for (uint64_t k = near.begin(i), e = near.end(i); k < e; ++k) {
       const uint32_t j = near.indices[k];
-      if (phase[j] == phase[i]) unite(parent, uint32_t(i), j);
+      if (phase[j] == phase[i]) sets.unite(uint32_t(i), j);
     }
   // Members in ascending index order, grouped by root (the smallest member).
   std::vector<int32_t> groupOfRoot(n, -1);
   std::vector<FluidBody> bodies;
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t r = findRoot(parent, uint32_t(i));
+    const uint32_t r = sets.root(uint32_t(i));
     if (groupOfRoot[r] < 0) {
       groupOfRoot[r] = int32_t(bodies.size());
       bodies.emplace_back();

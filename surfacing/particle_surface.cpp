@@ -18,6 +18,7 @@
 #include <unordered_set>
 
 #include "bilateral_filter.h"
+#include "sim/disjoint_sets.h"
 #include "sim/solids.h"
 
 namespace mf::surfacing {
@@ -321,22 +322,14 @@ struct CellIndex {
 
 uint32_t bodiesOf(const std::vector<openvdb::Vec3d>& p, double link, std::vector<uint32_t>& body) {
   const CellIndex index(p, link);
-  std::vector<uint32_t> parent(p.size());  // union-find over sorted entries
-  for (size_t i = 0; i < p.size(); ++i) parent[i] = uint32_t(i);
-  auto root = [&](uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  index.forEachPairWithin(link, [&](uint32_t a, uint32_t b) {
-    a = root(a), b = root(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  });
+  mf::DisjointSets sets(p.size());  // over sorted entries
+  index.forEachPairWithin(link, [&](uint32_t a, uint32_t b) { sets.unite(a, b); });
   std::vector<uint32_t> sortedOf(p.size()), label(p.size(), ~0u);
   for (size_t i = 0; i < p.size(); ++i) sortedOf[index.order[i]] = uint32_t(i);
   body.resize(p.size());
   uint32_t count = 0;
   for (size_t i = 0; i < p.size(); ++i) {
-    uint32_t& l = label[root(sortedOf[i])];
+    uint32_t& l = label[sets.root(sortedOf[i])];
     if (l == ~0u) l = count++;
     body[i] = l;
   }
