@@ -30,12 +30,6 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
                                    const std::vector<openvdb::Vec3f>& velocities, double particleSpacing,
                                    const SurfacingSettings& settings);
 
-/// @brief Connected parts of a fluid: particles closer than `link` belong to one body
-/// (particlesToSurface links particles closer than 1.5 spacings and surfaces each body as if
-/// alone). Returns the number of bodies; body[i] numbers them 0.. in order of each body's lowest
-/// particle index. The same on any thread count.
-uint32_t findBodies(const std::vector<openvdb::Vec3d>& positions, double link, std::vector<uint32_t>& body);
-
 /// @brief Cuts the level set where it reaches through a container wall: outside each container,
 /// within `shell` of its surface, the distance becomes max(phi, distance to the container's
 /// interior). Fluid inside a container thus ends at the wall, not a particle radius beyond it.

@@ -18,6 +18,7 @@
 
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
+#include "surfacing/bodies.h"
 #include "surfacing/mesh_io.h"
 #include "surfacing/particle_surface.h"
 #include "surfacing/surface_frame.h"
