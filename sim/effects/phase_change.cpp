@@ -147,9 +147,9 @@ class PhaseChange final : public Effect {
           if (p_.saturated) continue;
           // Growth from vapour that has finished expanding (rest density within 5 % of where
           // its expansion ends): a bubble takes in the hot water at its wall one shell at a
-          // time, at the pace of the expansion. Measured without that condition: in a pool at 105 deg C the
-          // vapour front crossed a neighbourhood every step (200 m/s) and 1 088 of 1 152
-          // particles flashed to vapour and left within 0.1 s.
+          // time, at the pace of the expansion. Measured without that condition: in a pool at
+          // 105 deg C the vapour front crossed a neighbourhood every step (200 m/s) and 1 088
+          // of 1 152 particles flashed to vapour and left within 0.1 s.
           bool grows = false;
           for (uint64_t k = nf.begin(i), e = nf.end(i); k < e && !grows; ++k) {
             const uint32_t j = nf.indices[k];
