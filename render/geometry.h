@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <openvdb/openvdb.h>
@@ -22,6 +23,19 @@ struct RenderMesh {
   std::vector<Float3> normals;  // per vertex, unit, outward (smooth shading)
   std::vector<std::array<uint32_t, 3>> triangles;
   size_t size() const { return triangles.size(); }
+};
+
+/// One closed surface and what is inside it.
+struct Surface {
+  std::string name;
+  RenderMesh mesh;
+  MaterialSpec material;
+  bool solid = false;  // a container or obstacle (solidSurfaces), not a fluid
+};
+
+/// A recorded ray, to time bare traversal on exactly the rays the shader cast.
+struct RecordedRay {
+  float org[3], dir[3], tnear, tfar;
 };
 
 /// The zero crossing of a level set; vertex normals from the distance gradient.

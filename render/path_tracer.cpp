@@ -1,213 +1,47 @@
 #include "path_tracer.h"
-#include "sampler.h"
 
-#include <embree3/rtcore.h>
 #include <tbb/blocked_range2d.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
-#include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <mutex>
-#include <stdexcept>
+
+#include "camera.h"
+#include "lights.h"
+#include "media.h"
+#include "ray_scene.h"
+#include "sampler.h"
+#include "warp.h"
 
 namespace mf::render {
 
 namespace {
-
 using Clock = std::chrono::steady_clock;
-
-
-// The shading path is small functions on doubles; a call there spills every live register (the
-// x86-64 ABI saves none), which cost more than the arithmetic. The hot ones are forced inline.
-#define MF_INLINE inline __attribute__((always_inline))
-
-/// mf::normalize with the same operations (the same bits), always inlined.
-MF_INLINE Vec3 unit(const Vec3& a) {
-  const Real l = std::sqrt(dot(a, a));
-  return l > 0 ? a / l : Vec3{};
-}
-
-Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
-Vec3 expNeg(const Vec3& sigma, Real d) { return {std::exp(-sigma.x * d), std::exp(-sigma.y * d), std::exp(-sigma.z * d)}; }
-Real maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-
-/// An orthonormal frame around n (Duff et al. 2017).
-void basis(const Vec3& n, Vec3& t, Vec3& b) {
-  const Real s = std::copysign(1.0, n.z), a = -1.0 / (s + n.z), c = n.x * n.y * a;
-  t = {1 + s * n.x * n.x * a, s * c, -s * n.x};
-  b = {c, s + n.y * n.y * a, -n.y};
-}
-
-MF_INLINE Vec3 cosineHemisphere(const Vec3& n, Real u1, Real u2) {
-  const Real r = std::sqrt(u1), phi = 2 * M_PI * u2;
-  Vec3 t, b;
-  basis(n, t, b);
-  return unit(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * std::sqrt(std::max(0.0, 1 - u1)));
-}
-
-Vec3 uniformSphere(Real u1, Real u2) {
-  const Real z = 1 - 2 * u1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * M_PI * u2;
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
-/// Unpolarised Fresnel reflectance for a dielectric interface.
-Real fresnel(Real cosi, Real cost, Real n1, Real n2) {
-  const Real rs = (n1 * cosi - n2 * cost) / (n1 * cosi + n2 * cost);
-  const Real rp = (n1 * cost - n2 * cosi) / (n1 * cost + n2 * cosi);
-  return 0.5 * (rs * rs + rp * rp);
-}
-
-/// The volumes a ray is inside, as material indices; the one with the highest priority is the
-/// medium the ray travels in (ties: the last entered).
-struct MediumStack {
-  static constexpr int kMax = 16;
-  int entries[kMax];
-  int size = 0;
-
-  int top(const std::vector<MaterialSpec>& m) const {
-    int best = -1;
-    for (int i = 0; i < size; ++i)
-      if (best < 0 || m[entries[i]].priority >= m[best].priority) best = entries[i];
-    return best;
-  }
-  void push(int material) {
-    if (size < kMax) entries[size++] = material;
-  }
-  void remove(int material) {  // the last entry of that material
-    for (int i = size - 1; i >= 0; --i)
-      if (entries[i] == material) {
-        for (int j = i; j + 1 < size; ++j) entries[j] = entries[j + 1];
-        --size;
-        return;
-      }
-  }
-  bool contains(int material) const {
-    for (int i = 0; i < size; ++i)
-      if (entries[i] == material) return true;
-    return false;
-  }
-};
-
-/// Continuing rays start exactly on the surface they left (an offset would step over a
-/// coincident surface, such as water against a glass wall); instead, hits on the geometry just
-/// left are ignored closer than `skipDistance`. Where no other geometry lies that close to the
-/// triangle left, tnear = skipDistance does the same without the filter (see nearOther).
-struct SkipContext {
-  RTCIntersectContext context;
-  unsigned skipGeometry;
-  float skipDistance;
-};
-
-void skipFilter(const RTCFilterFunctionNArguments* args) {
-  const auto* c = reinterpret_cast<const SkipContext*>(args->context);
-  for (unsigned i = 0; i < args->N; ++i)
-    if (args->valid[i] && RTCHitN_geomID(args->hit, args->N, i) == c->skipGeometry &&
-        RTCRayN_tfar(args->ray, args->N, i) < c->skipDistance)
-      args->valid[i] = 0;
-}
-
-/// The power heuristic (Veach 1997, beta = 2): the weight of the strategy with density `a`.
-MF_INLINE Real powerHeuristic(Real a, Real b) { return a * a / (a * a + b * b); }
-
-/// The density of a uniform cone of directions with cosine `cosMax`, and a sample of it.
-MF_INLINE Real conePdf(Real cosMax) { return 1 / (2 * M_PI * (1 - cosMax)); }
-Vec3 sampleCone(const Vec3& axis, Real cosMax, Real u1, Real u2) {
-  const Real cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT)), phi = 2 * M_PI * u2;
-  Vec3 t, b;
-  basis(axis, t, b);
-  return unit(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + axis * cosT);
-}
-
-RTCBounds emptyBox() { return {1e30f, 1e30f, 1e30f, 0, -1e30f, -1e30f, -1e30f, 0}; }
-void grow(RTCBounds& a, const RTCBounds& b) {
-  a.lower_x = std::min(a.lower_x, b.lower_x), a.lower_y = std::min(a.lower_y, b.lower_y), a.lower_z = std::min(a.lower_z, b.lower_z);
-  a.upper_x = std::max(a.upper_x, b.upper_x), a.upper_y = std::max(a.upper_y, b.upper_y), a.upper_z = std::max(a.upper_z, b.upper_z);
-}
-bool overlap(const RTCBounds& a, const RTCBounds& b) {
-  return a.lower_x <= b.upper_x && b.lower_x <= a.upper_x && a.lower_y <= b.upper_y && b.lower_y <= a.upper_y &&
-         a.lower_z <= b.upper_z && b.lower_z <= a.upper_z;
-}
-
-struct Hit {
-  enum Kind { None, Mesh, Floor, Light } kind = None;
-  Real t = 0;
-  int material = -1;  // also the geometry id
-  unsigned prim = 0;  // the triangle (meshes)
-  Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
-};
-
 }  // namespace
 
+/// The integrator: paths through nested dielectrics and media, lit by the lamp and the sky.
 struct PathTracer::Impl {
   RenderSettings settings;
   std::vector<Surface> surfaces;
   std::vector<MaterialSpec> materials;  // one per surface (geometry id)
-  RTCDevice device = nullptr;
-  RTCScene scene = nullptr;
-  Real epsilon = 1e-5;  // ray offset, m: relative to the scene's size
-  // Per geometry and triangle: the vertex normals, packed (one load near the hit, not four).
-  std::vector<std::vector<std::array<Float3, 3>>> triNormals;
-  // Per geometry and triangle: another geometry comes within 2 epsilon of it. A ray leaving a
-  // triangle without such a neighbour skips its own surface by tnear = epsilon (nothing else lies
-  // that close, so the same hits survive as with the filter); only the others need the filter.
-  std::vector<std::vector<uint8_t>> nearOther;
-  Vec3 camU, camV, camW;  // right, up, forward
+  RayScene geometry;
+  Real epsilon;  // ray offset, m (the geometry's)
+  Camera camera;
+  SphereLight light;
+  Sky sky;
   std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
   std::vector<int> maskOf;             // per geometry: its index in maskNames, -1 for solids
 
-  ~Impl() {
-    if (scene) rtcReleaseScene(scene);
-    if (device) rtcReleaseDevice(device);
-  }
-
-  void build() {
-    device = rtcNewDevice(nullptr);
-    if (!device) throw std::runtime_error("Embree: cannot create a device");
-    scene = rtcNewScene(device);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
-    Vec3 lo{1e30, 1e30, 1e30}, hi{-1e30, -1e30, -1e30};
-    for (size_t g = 0; g < surfaces.size(); ++g) {
-      const RenderMesh& m = surfaces[g].mesh;
-      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                            3 * sizeof(float), std::max<size_t>(m.positions.size(), 1)));
-      auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), m.triangles.size()));
-      for (size_t i = 0; i < m.positions.size(); ++i) {
-        v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
-        lo = cwiseMin(lo, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
-        hi = cwiseMax(hi, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
-      }
-      for (size_t i = 0; i < m.triangles.size(); ++i)
-        for (int k = 0; k < 3; ++k) idx[3 * i + k] = m.triangles[i][k];
-      rtcCommitGeometry(geom);
-      rtcAttachGeometryByID(scene, geom, unsigned(g));
-      rtcReleaseGeometry(geom);
-      materials.push_back(surfaces[g].material);
-    }
-    if (hi.x > lo.x) epsilon = std::max(1e-6, 2e-5 * length(hi - lo));
-    findNeighbours(2 * epsilon);
-    bool anyNear = false;
-    for (const auto& n : nearOther) anyNear |= std::find(n.begin(), n.end(), 1) != n.end();
-    // Robust traversal: refracted rays must not leak through shared edges of a mesh. The skip
-    // filter only where another surface lies close to one.
-    rtcSetSceneFlags(scene, anyNear ? RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION : RTC_SCENE_FLAG_ROBUST);
-    rtcCommitScene(scene);
-    triNormals.resize(surfaces.size());
-    for (size_t g = 0; g < surfaces.size(); ++g) {
-      const RenderMesh& m = surfaces[g].mesh;
-      triNormals[g].resize(m.triangles.size());
-      for (size_t i = 0; i < m.triangles.size(); ++i)
-        for (int k = 0; k < 3; ++k) triNormals[g][i][k] = m.normals[m.triangles[i][k]];
-    }
+  Impl(std::vector<Surface> surfaces_, const RenderSettings& s)
+      : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces), epsilon(geometry.epsilon()), camera(s),
+        light(s), sky(s) {
     for (const Surface& sf : surfaces) {
+      materials.push_back(sf.material);
       int m = -1;
       if (!sf.solid) {
         m = int(std::find(maskNames.begin(), maskNames.end(), sf.name) - maskNames.begin());
@@ -215,157 +49,25 @@ struct PathTracer::Impl {
       }
       maskOf.push_back(m);
     }
-    camW = unit(settings.lookAt - settings.cameraPosition);
-    camU = unit(cross(camW, Vec3{0, 1, 0}));
-    if (lengthSquared(camU) == 0) camU = {1, 0, 0};
-    camV = cross(camU, camW);
   }
 
-  /// Marks the triangles that come within `margin` of another geometry: Embree's collision
-  /// detection (BVH against BVH) of the triangles' bounding boxes, each grown by half the margin.
-  void findNeighbours(Real margin) {
-    const size_t n = surfaces.size();
-    nearOther.assign(n, {});
-    for (size_t g = 0; g < n; ++g) nearOther[g].assign(surfaces[g].mesh.triangles.size(), 0);
-    if (n < 2) return;
-    const float h = float(0.5 * margin);
-    std::vector<std::vector<RTCBounds>> boxes(n);
-    std::vector<RTCBounds> whole(n, emptyBox());
-    for (size_t g = 0; g < n; ++g) {
-      const RenderMesh& m = surfaces[g].mesh;
-      for (const auto& tri : m.triangles) {
-        RTCBounds b = emptyBox();
-        for (int k = 0; k < 3; ++k) {
-          const Float3& p = m.positions[tri[k]];
-          grow(b, {p.x - h, p.y - h, p.z - h, 0, p.x + h, p.y + h, p.z + h, 0});
-        }
-        boxes[g].push_back(b);
-        grow(whole[g], b);
-      }
-    }
-    // rtcCollide takes user geometries only: one scene of boxes per geometry, made when needed.
-    std::vector<RTCScene> boxScenes(n, nullptr);
-    auto boxScene = [&](size_t g) {
-      if (boxScenes[g]) return boxScenes[g];
-      RTCScene s = rtcNewScene(device);
-      RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
-      rtcSetGeometryUserPrimitiveCount(geom, unsigned(boxes[g].size()));
-      rtcSetGeometryUserData(geom, &boxes[g]);
-      rtcSetGeometryBoundsFunction(
-          geom,
-          [](const RTCBoundsFunctionArguments* a) {
-            *a->bounds_o = (*static_cast<const std::vector<RTCBounds>*>(a->geometryUserPtr))[a->primID];
-          },
-          nullptr);
-      rtcCommitGeometry(geom);
-      rtcAttachGeometryByID(s, geom, unsigned(g));
-      rtcReleaseGeometry(geom);
-      rtcCommitScene(s);
-      return boxScenes[g] = s;
-    };
-    struct Pairs {  // the callback's view (it may run on several threads)
-      const std::vector<std::vector<RTCBounds>>& boxes;
-      std::vector<std::vector<uint8_t>>& near;
-      std::mutex mutex;
-    } pairs{boxes, nearOther, {}};
-    for (size_t a = 0; a < n; ++a)
-      for (size_t b = a + 1; b < n; ++b) {
-        if (boxes[a].empty() || boxes[b].empty() || !overlap(whole[a], whole[b])) continue;
-        rtcCollide(
-            boxScene(a), boxScene(b),
-            [](void* user, RTCCollision* c, unsigned count) {
-              auto& p = *static_cast<Pairs*>(user);
-              std::lock_guard<std::mutex> lock(p.mutex);
-              for (unsigned k = 0; k < count; ++k)  // candidates: the boxes' BVH leaves overlap
-                if (overlap(p.boxes[c[k].geomID0][c[k].primID0], p.boxes[c[k].geomID1][c[k].primID1]))
-                  p.near[c[k].geomID0][c[k].primID0] = p.near[c[k].geomID1][c[k].primID1] = 1;
-            },
-            &pairs);
-      }
-    for (RTCScene s : boxScenes)
-      if (s) rtcReleaseScene(s);
-  }
-
-  Vec3 sky(const Vec3& d) const {
-    if (d.y < 0) return settings.skyGround;
-    const Real t = std::sqrt(d.y);
-    return settings.skyHorizon * (1 - t) + settings.skyZenith * t;
-  }
-
+  /// The table top's colour at p: a checkerboard of `checkerSize`, or plain grey.
   Vec3 floorAlbedo(const Vec3& p) const {
     if (settings.checkerSize <= 0) return {0.6, 0.6, 0.6};
     const long i = long(std::floor(p.x / settings.checkerSize)) + long(std::floor(p.z / settings.checkerSize));
     return (i & 1) ? Vec3{0.15, 0.15, 0.15} : Vec3{0.75, 0.75, 0.75};
   }
 
-  /// The solid-angle density of directLight's samples from p (0 inside the light).
-  Real lightPdf(const Vec3& p) const {
-    const Real d2 = lengthSquared(settings.lightPosition - p), r2 = settings.lightRadius * settings.lightRadius;
-    if (settings.lightRadius <= 0 || d2 <= r2) return 0;
-    return 1 / (2 * M_PI * (1 - std::sqrt(1 - r2 / d2)));
-  }
-
-  Real intersectLight(const Vec3& o, const Vec3& d) const {
-    if (settings.lightRadius <= 0) return -1;
-    const Vec3 oc = o - settings.lightPosition;
-    const Real b = dot(oc, d), c = dot(oc, oc) - settings.lightRadius * settings.lightRadius, disc = b * b - c;
-    if (disc < 0) return -1;
-    const Real s = std::sqrt(disc);
-    const Real t0 = -b - s, t1 = -b + s;
-    return t0 > epsilon ? t0 : (t1 > epsilon ? t1 : -1);
-  }
-
-  /// The nearest hit along o + t d, t in (0, tfar); `leaving`: the geometry o lies on, or -1.
-  /// `shading`: also the interpolated shading normal (shadow rays need only the geometric one).
-  /// `hit`: the caller's (filled in, not cleared: only what the kind of hit needs is valid).
-  /// `knownLight`: intersectLight(o, d) where the caller has it already.
+  /// The nearest hit along o + t d, t in (0, tfar), of the meshes, the table and the lamp;
+  /// `leaving`: the geometry o lies on, or -1. `shading`: also the interpolated shading normal
+  /// (shadow rays need only the geometric one). `hit`: the caller's (filled in, not cleared:
+  /// only what the kind of hit needs is valid). `knownLight`: light.intersect(o, d) where the
+  /// caller has it already.
   MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, uint64_t& rays,
-                 std::vector<RecordedRay>* record, Hit& hit, bool shading = true, const Real* knownLight = nullptr) const {
-    hit.kind = Hit::None;
-    hit.material = -1;
-    SkipContext skip;
-    rtcInitIntersectContext(&skip.context);
-    float tnear = 0;
-    if (leaving >= 0) {
-      if (nearOther[leaving][leavingPrim]) {
-        skip.context.filter = skipFilter;
-        skip.skipGeometry = unsigned(leaving);
-        skip.skipDistance = float(epsilon);
-      } else {
-        tnear = float(epsilon);
-      }
-    }
-    RTCRayHit rh;
-    rh.ray.org_x = float(o.x), rh.ray.org_y = float(o.y), rh.ray.org_z = float(o.z);
-    rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-    rh.ray.tnear = tnear;
-    rh.ray.tfar = float(std::min(tfar, 1e30));
-    rh.ray.mask = 0xFFFFFFFF;
-    rh.ray.flags = 0;
-    rh.ray.time = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
-    rtcIntersect1(scene, &skip.context, &rh);
-    ++rays;
-    Real best = tfar;
-    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
-      best = rh.ray.tfar;
-      hit.kind = Hit::Mesh;
-      hit.t = best;
-      hit.material = int(rh.hit.geomID);
-      hit.prim = rh.hit.primID;
-      // Embree's Ng is cross(v1 - v0, v2 - v0): outward for our counter-clockwise meshes.
-      // Shadow rays use only its side (the sign of dot(d, ng)): unnormalised there.
-      hit.ng = Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
-      if (shading) {
-        hit.ng = unit(hit.ng);
-        const auto& tn = triNormals[rh.hit.geomID][rh.hit.primID];
-        const Real u = rh.hit.u, v = rh.hit.v;
-        const auto& na = tn[0], &nb = tn[1], &nc = tn[2];
-        hit.ns = unit(Vec3{na.x, na.y, na.z} * (1 - u - v) + Vec3{nb.x, nb.y, nb.z} * u + Vec3{nc.x, nc.y, nc.z} * v);
-        if (dot(hit.ns, hit.ng) <= 0) hit.ns = hit.ng;
-      }
-    }
+                           std::vector<RecordedRay>* record, Hit& hit, bool shading = true,
+                           const Real* knownLight = nullptr) const {
+    geometry.intersect(o, d, tfar, leaving, leavingPrim, rays, record, hit, shading);
+    Real best = hit.kind == Hit::Mesh ? hit.t : tfar;
     if (settings.floor && d.y < 0 && o.y > settings.floorHeight) {
       const Real t = (settings.floorHeight - o.y) / d.y;
       if (t > epsilon && t < best) {
@@ -375,7 +77,7 @@ struct PathTracer::Impl {
         hit.ng = hit.ns = {0, 1, 0};
       }
     }
-    const Real tl = knownLight ? *knownLight : intersectLight(o, d);
+    const Real tl = knownLight ? *knownLight : light.intersect(o, d, epsilon);
     if (tl > 0 && tl < best) {
       hit.kind = Hit::Light;
       hit.t = tl;
@@ -391,7 +93,7 @@ struct PathTracer::Impl {
                      std::vector<RecordedRay>* record, Hit& h, bool& crossed) const {
     crossed = false;
     Vec3 T{1, 1, 1};
-    const Real firstLight = dist;  // the caller's intersectLight(o, d)
+    const Real firstLight = dist;  // the caller's light.intersect(o, d)
     for (int crossing = 0; crossing < 32; ++crossing) {
       intersect(o, d, dist, leaving, leavingPrim, rays, record, h, false, crossing == 0 ? &firstLight : nullptr);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
@@ -425,18 +127,10 @@ struct PathTracer::Impl {
   Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Real u1, Real u2,
                    uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch, const Vec3* cone = nullptr,
                    Real coneCos = 1) const {
-    if (settings.lightRadius <= 0) return {};
-    const Vec3 toCentre = settings.lightPosition - p;
-    const Real d2 = lengthSquared(toCentre), r2 = settings.lightRadius * settings.lightRadius;
-    if (d2 <= r2) return {};
-    // Uniform sampling of the cone the sphere subtends.
-    const Real cosMax = std::sqrt(1 - r2 / d2);
-    const Real cosT = 1 - u1 * (1 - cosMax), sinT = std::sqrt(std::max(0.0, 1 - cosT * cosT)), phi = 2 * M_PI * u2;
-    const Vec3 w = toCentre / std::sqrt(d2);
-    Vec3 t, b;
-    basis(w, t, b);
-    const Vec3 dir = unit(t * (sinT * std::cos(phi)) + b * (sinT * std::sin(phi)) + w * cosT);
-    const Real pdf = 1 / (2 * M_PI * (1 - cosMax));
+    if (!light.present()) return {};
+    Vec3 dir;
+    Real pdf;
+    if (!light.sample(p, u1, u2, dir, pdf)) return {};
     Real lobe;  // BSDF or phase function times cosine
     if (cone) {
       if (dot(*cone, dir) < coneCos) return {};
@@ -448,7 +142,7 @@ struct PathTracer::Impl {
     } else {
       lobe = 1 / (4 * M_PI);
     }
-    const Real tl = intersectLight(p, dir);
+    const Real tl = light.intersect(p, dir, epsilon);
     if (tl <= 0) return {};
     bool crossed;
     const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, rays, record, scratch, crossed);
@@ -456,7 +150,7 @@ struct PathTracer::Impl {
     // sampling never makes them (trace drops its light hits there), so the light sample keeps
     // its full weight.
     const Real weight = crossed || !settings.mis ? 1 : powerHeuristic(pdf, lobe);
-    return mul(T, settings.lightEmission) * (weight * lobe / pdf);
+    return mul(T, light.emission) * (weight * lobe / pdf);
   }
 
   /// The AOVs' view of a hit on the specular chain: the first one's distance and normal (facing
@@ -466,7 +160,7 @@ struct PathTracer::Impl {
       primary = false;
       if (h.kind != Hit::None) {
         first.depth = h.t;
-        Vec3 n = h.kind == Hit::Light ? unit(h.p - settings.lightPosition) : h.ns;
+        Vec3 n = h.kind == Hit::Light ? unit(h.p - light.centre) : h.ns;
         first.normal = dot(n, d) > 0 ? -n : n;
       }
     }
@@ -553,16 +247,16 @@ struct PathTracer::Impl {
       }
       if (h.kind == Hit::None) {
         closeChain({1, 1, 1});
-        add(mul(throughput, sky(d)));
+        add(mul(throughput, sky.radiance(d)));
         break;
       }
       if (h.kind == Hit::Light) {
         closeChain({1, 1, 1});
         if (misOpen) {  // the light sample at misVertex could have found this path too
-          const Real w = settings.mis ? powerHeuristic(misLobePdf, lightPdf(misVertex)) : 0;
-          if (w > 0) add(mul(throughput, settings.lightEmission) * w, false);
+          const Real w = settings.mis ? powerHeuristic(misLobePdf, light.pdf(misVertex)) : 0;
+          if (w > 0) add(mul(throughput, light.emission) * w, false);
         } else if (!lightCounted) {
-          add(mul(throughput, settings.lightEmission));
+          add(mul(throughput, light.emission));
         }
         break;
       }
@@ -693,11 +387,8 @@ struct PathTracer::Impl {
   }
 };
 
-PathTracer::PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings) : impl_(std::make_unique<Impl>()) {
-  impl_->settings = settings;
-  impl_->surfaces = std::move(surfaces);
-  impl_->build();
-}
+PathTracer::PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings)
+    : impl_(std::make_unique<Impl>(std::move(surfaces), settings)) {}
 
 PathTracer::~PathTracer() = default;
 
@@ -720,7 +411,6 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   tbb::combinable<std::vector<RecordedRay>> recorded;
   std::atomic<int> rowsDone{0};
   std::mutex progressMutex;
-  const Real tanHalf = std::tan(0.5 * s.fov * M_PI / 180), aspect = Real(s.width) / s.height;
   // One row per task: pixels are independent, so the schedule cannot change any value.
   tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
     uint64_t& count = rays.local();
@@ -736,9 +426,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           Sampler smp(seed, uint32_t(k), !s.sobol);
           Real jx, jy;
           smp.get2D(0, jx, jy);
-          const Real px = (2 * (x + jx) / s.width - 1) * tanHalf * aspect;
-          const Real py = (1 - 2 * (y + jy) / s.height) * tanHalf;
-          const Vec3 d = unit(im.camW + im.camU * px + im.camV * py);
+          const Vec3 d = im.camera.direction(x + jx, y + jy);
           PrimarySample first;
           Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow, aovs ? &first : nullptr);
           if (!isFinite(c)) c = {};
@@ -766,7 +454,6 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
 double PathTracer::coverage(const std::function<bool(const Surface&)>& counts) const {
   const Impl& im = *impl_;
   const RenderSettings& s = im.settings;
-  const Real tanHalf = std::tan(0.5 * s.fov * M_PI / 180), aspect = Real(s.width) / s.height;
   std::vector<uint8_t> accept(im.surfaces.size());
   for (size_t g = 0; g < im.surfaces.size(); ++g) accept[g] = counts(im.surfaces[g]);
   const uint64_t covered = tbb::parallel_reduce(
@@ -776,20 +463,12 @@ double PathTracer::coverage(const std::function<bool(const Surface&)>& counts) c
         rtcInitIntersectContext(&context);
         for (int y = rows.begin(); y < rows.end(); ++y)
           for (int x = 0; x < s.width; ++x) {
-            const Vec3 d = unit(im.camW + im.camU * ((2 * (x + 0.5) / s.width - 1) * tanHalf * aspect) +
-                                im.camV * ((1 - 2 * (y + 0.5) / s.height) * tanHalf));
+            const Vec3 d = im.camera.direction(x + 0.5, y + 0.5);
             float tnear = 0;
             for (int bounce = 0; bounce < 64; ++bounce) {
-              RTCRayHit rh;
-              rh.ray.org_x = float(s.cameraPosition.x), rh.ray.org_y = float(s.cameraPosition.y), rh.ray.org_z = float(s.cameraPosition.z);
-              rh.ray.dir_x = float(d.x), rh.ray.dir_y = float(d.y), rh.ray.dir_z = float(d.z);
-              rh.ray.tnear = tnear;
-              rh.ray.tfar = std::numeric_limits<float>::infinity();
-              rh.ray.mask = 0xFFFFFFFF;
-              rh.ray.flags = 0;
-              rh.ray.time = 0;
-              rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-              rtcIntersect1(im.scene, &context, &rh);
+              RTCRayHit rh = makeRay(float(s.cameraPosition.x), float(s.cameraPosition.y), float(s.cameraPosition.z),
+                                     float(d.x), float(d.y), float(d.z), tnear, std::numeric_limits<float>::infinity());
+              rtcIntersect1(im.geometry.scene(), &context, &rh);
               if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
               if (accept[rh.hit.geomID]) {
                 ++n;
@@ -810,16 +489,9 @@ double PathTracer::traceBare(const std::vector<RecordedRay>& rays) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (size_t i = r.begin(); i < r.end(); ++i) {
-      RTCRayHit rh;
-      rh.ray.org_x = rays[i].org[0], rh.ray.org_y = rays[i].org[1], rh.ray.org_z = rays[i].org[2];
-      rh.ray.dir_x = rays[i].dir[0], rh.ray.dir_y = rays[i].dir[1], rh.ray.dir_z = rays[i].dir[2];
-      rh.ray.tnear = rays[i].tnear;
-      rh.ray.tfar = rays[i].tfar;
-      rh.ray.mask = 0xFFFFFFFF;
-      rh.ray.flags = 0;
-      rh.ray.time = 0;
-      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(impl_->scene, &context, &rh);
+      const RecordedRay& q = rays[i];
+      RTCRayHit rh = makeRay(q.org[0], q.org[1], q.org[2], q.dir[0], q.dir[1], q.dir[2], q.tnear, q.tfar);
+      rtcIntersect1(impl_->geometry.scene(), &context, &rh);
     }
   });
   return std::chrono::duration<double>(Clock::now() - t0).count();

@@ -1,7 +1,9 @@
 // A path tracer for liquids in glass: nested dielectrics with priorities (Schmidt & Budge 2002,
 // as production renderers resolve overlapping volumes), Fresnel reflection and refraction,
 // Beer-Lambert absorption, a homogeneous scattering medium for wax, diffuse table and walls,
-// a spherical area light sampled directly and a sky. Embree 3 finds the hits; TBB runs tiles.
+// a spherical area light sampled directly and a sky. Embree 3 finds the hits; TBB runs rows.
+// This is the integrator and the image loop; the camera, sampler, lights, media and the ray
+// scene are their own units beside it (docs/rendering.md).
 //
 // Deterministic: each pixel sample's values are Owen-scrambled Sobol points keyed by (pixel,
 // sample, dimension) (render/sampler.h; the frame too with render.animated_seed), and pixels are
@@ -20,23 +22,10 @@
 
 namespace mf::render {
 
-/// One closed surface and what is inside it.
-struct Surface {
-  std::string name;
-  RenderMesh mesh;
-  MaterialSpec material;
-  bool solid = false;  // a container or obstacle (solidSurfaces), not a fluid
-};
-
 struct RenderStats {
   uint64_t rays = 0;          // every ray cast into the scene (camera, bounce, shadow)
   double seconds = 0;         // wall time of the image
   double raysPerSecond() const { return seconds > 0 ? rays / seconds : 0; }
-};
-
-/// A recorded ray, to time bare traversal on exactly the rays the shader cast.
-struct RecordedRay {
-  float org[3], dir[3], tnear, tfar;
 };
 
 class PathTracer {
