@@ -12,6 +12,7 @@
 
 #include "pipeline/process.h"
 #include "pipeline/run_folder.h"
+#include "render/camera.h"
 #include "render/geometry.h"
 #include "sim/file_util.h"
 #include "sim/scene_file.h"
@@ -133,12 +134,21 @@ int exportBlender(const BlenderExportOptions& opt) {
   std::string containers;
   for (size_t j = 0; j < scene.solids.size(); ++j)
     containers += (containers.empty() ? "" : ",\n  ") + containerMesh(scene.solids[j], rs.solidMaterials[j]);
+  // A moving camera: its pose at every exported frame, keyed frame by frame in Blender.
+  std::string cameraFrames;
+  if (!rs.cameraKeys.empty())
+    for (int f = first; f <= last; ++f) {
+      const CameraKey c = render::cameraAt(rs.cameraKeys, f / scene.frameRate);
+      cameraFrames += fmt::format("{}{{\"frame\": {}, \"position\": {}, \"look_at\": {}, \"fov_vertical_degrees\": {}}}",
+                                  cameraFrames.empty() ? "" : ",\n  ", f, vec(c.position), vec(c.lookAt), num(c.fov));
+    }
   // Everything in the scene's coordinates (y up, metres); the script turns them to Blender's z up.
   const std::string manifest = fmt::format(
       "{{\"format\": \"multifluid blender manifest 1\",\n"
       " \"scene\": {}, \"run_folder\": {}, \"up_axis\": \"Y\",\n"
       " \"fps\": {}, \"frame_start\": {}, \"frame_end\": {}, \"surface_first_file\": {}, \"voxel_size\": {},\n"
       " \"camera\": {{\"position\": {}, \"look_at\": {}, \"fov_vertical_degrees\": {}, \"framing\": {}}},\n"
+      " \"camera_frames\": [{}],\n"
       " \"image\": {{\"width\": {}, \"height\": {}, \"samples\": {}, \"max_depth\": {}}},\n"
       " \"light\": {{\"position\": {}, \"radius\": {}, \"emission\": {}}},\n"
       " \"sky\": {{\"zenith\": {}, \"horizon\": {}, \"ground\": {}}},\n"
@@ -148,7 +158,7 @@ int exportBlender(const BlenderExportOptions& opt) {
       " \"containers\": [{}]}}\n",
       str(scene.name), str(dir.string()), num(scene.frameRate), first, last, str(surfaceFile(first).string()),
       num(scene.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
-      str(rs.cameraFraming), rs.width, rs.height, rs.samples, rs.maxDepth,
+      str(rs.cameraFraming), cameraFrames, rs.width, rs.height, rs.samples, rs.maxDepth,
       vec(rs.lightPosition), num(rs.lightRadius), vec(rs.lightEmission), vec(rs.skyZenith), vec(rs.skyHorizon), vec(rs.skyGround),
       rs.floor ? "true" : "false", num(rs.floorHeight), num(rs.checkerSize), str(opt.meshes), fluids, containers);
   const fs::path manifestFile = out.string() + ".json";

@@ -334,7 +334,7 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
   };
   if (!empty.empty()) fmt::print(stderr, "warning: {} frame(s) have no fluid surface to render (frames {})\n", empty.size(), list(empty));
   if (!unseen.empty())
-    fmt::print(stderr, "warning: the camera sees no fluid in {} frame(s) (frames {}): check render.camera_position and look_at\n",
+    fmt::print(stderr, "warning: the camera sees no fluid in {} frame(s) (frames {}): check render.camera_position and look_at, or render.camera_key\n",
                unseen.size(), list(unseen));
   return fmt::format("  render        {:>8.2f} s   {} frame(s) rendered ({:.2f} s each, {:.2f} Mrays/s), {} already done\n", total,
                      done, done > 0 ? total / done : 0.0, traceSeconds > 0 ? rays / traceSeconds / 1e6 : 0.0, skipped);

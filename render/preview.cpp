@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "camera.h"
 #include "image.h"
 #include "sim/particle_io.h"
 
@@ -67,7 +68,7 @@ PreviewResult renderPreview(const std::string& particleFile, const Scene& scene,
   const auto t0 = std::chrono::steady_clock::now();
   const ParticleFrame frame = readParticleFrame(particleFile);
   checkFrameMatchesScene(particleFile, frame.info, scene);
-  const RenderSettings& rs = scene.render;
+  const RenderSettings rs = atTime(scene.render, frame.info.time);
   const int w = rs.width, h = rs.height;
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
   if (!ctx) throw std::runtime_error("OSMesa: cannot create an off-screen context");

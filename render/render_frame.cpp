@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "aov.h"
+#include "camera.h"
 #include "denoise.h"
 #include "path_tracer.h"
 #include "sim/vdb_file.h"
@@ -83,7 +84,7 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   }
   result.anyFluid = !surfaces.empty();
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
-  PathTracer tracer(std::move(surfaces), scene.render);
+  PathTracer tracer(std::move(surfaces), atTime(scene.render, frame / scene.frameRate));
   result.triangles = tracer.triangleCount();
   result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // Solids are glass to see through: what counts is a fluid's surface behind them.

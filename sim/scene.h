@@ -213,6 +213,13 @@ struct MaterialSpec {
   bool visible = true;        // solids: drawn at all
 };
 
+/// A camera pose at a time ([[render.camera_key]]); render/camera.h interpolates them.
+struct CameraKey {
+  Real time = 0;  // s
+  Vec3 position, lookAt;
+  Real fov = 40;  // vertical, degrees
+};
+
 /// The render stage's camera, lights and materials.
 struct RenderSettings {
   int width = 480, height = 270;
@@ -229,6 +236,7 @@ struct RenderSettings {
   Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
   Real fov = 40;                    // vertical, degrees
   std::string cameraFraming;        // without camera keys: what the camera was set to frame
+  std::vector<CameraKey> cameraKeys;  // a moving camera, times increasing (empty: the one above)
   Vec3 skyZenith{0.35, 0.45, 0.65}, skyHorizon{1.0, 1.0, 1.0};
   Vec3 skyGround{0.25, 0.25, 0.25}; // radiance from below the horizon
   Vec3 lightPosition;               // a spherical area light

@@ -118,6 +118,32 @@ void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
   }
 }
 
+/// [[render.camera_key]]: time (s, increasing), position, look_at (required), fov (render.fov).
+/// The static camera keys then take the first key's pose (what a still export shows).
+void readCameraKeys(Reader& r, TableReader& t, RenderSettings& o, bool staticCamera) {
+  const auto keys = t.tables("camera_key");
+  for (size_t i = 0; i < keys.size(); ++i) {
+    TableReader k(r, keys[i], fmt::format("render.camera_key[{}]", i));
+    CameraKey key;
+    key.time = k.number("time", 0, 0, 1e9, "s", false, true);
+    key.position = k.vec3("position", {}, -1e6, 1e6, "m", true);
+    key.lookAt = k.vec3("look_at", {}, -1e6, 1e6, "m", true);
+    key.fov = k.number("fov", o.fov, 1, 170, "degrees");
+    if (!o.cameraKeys.empty() && !(key.time > o.cameraKeys.back().time))
+      r.problem(k.node("time"), k.path("time"),
+                fmt::format("{:g} s is not after the previous key's {:g} s: keys go in increasing time", key.time,
+                            o.cameraKeys.back().time));
+    if (lengthSquared(key.lookAt - key.position) == 0)
+      r.problem(k.node("look_at"), k.path("look_at"), "equals position: the camera must look somewhere");
+    o.cameraKeys.push_back(key);
+  }
+  if (keys.empty()) return;
+  if (staticCamera)
+    r.problemAt(keys[0]->source().begin.line, "render.camera_key",
+                "give either camera_position/look_at or [[render.camera_key]], not both");
+  o.cameraPosition = o.cameraKeys[0].position, o.lookAt = o.cameraKeys[0].lookAt, o.fov = o.cameraKeys[0].fov;
+}
+
 }  // namespace
 
 /// See scene_reader.h.
@@ -155,10 +181,12 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   } else {
     o.phases = sc.surfacing.phases;
   }
-  const bool cameraGiven = t.has("camera_position") || t.has("look_at");
+  const bool staticCamera = t.has("camera_position") || t.has("look_at");
   o.cameraPosition = t.vec3("camera_position", o.cameraPosition);
   o.lookAt = t.vec3("look_at", o.lookAt);
   o.fov = t.number("fov", o.fov, 1, 170, "degrees", false);
+  readCameraKeys(r, t, o, staticCamera);
+  const bool cameraGiven = staticCamera || !o.cameraKeys.empty();
   o.skyZenith = t.vec3("sky_zenith", o.skyZenith, 0, 1e6, "(relative radiance)");
   o.skyHorizon = t.vec3("sky_horizon", o.skyHorizon, 0, 1e6, "(relative radiance)");
   o.skyGround = t.vec3("sky_ground", o.skyHorizon * 0.25, 0, 1e6, "(relative radiance)");

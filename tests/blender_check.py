@@ -53,6 +53,18 @@ if cam:
     check(view.angle(want) < 2 * ctol, "camera looks at %s (off by %.2e rad)" % (ex["look_at"], view.angle(want)))
     check(abs(cam.data.angle_y - math.radians(ex["fov"])) < TOL,
           "vertical field of view %.4f deg (expected %g)" % (math.degrees(cam.data.angle_y), ex["fov"]))
+# A moving camera: the pose the renderer uses at each listed frame (the keys' own frames).
+for k in ex.get("camera_frames", []):
+    scene.frame_set(k["frame"])
+    pos = cam.matrix_world.translation
+    check(close(pos, to_blender(k["position"]), TOL), "frame %d: camera at %s (expected %s)" % (k["frame"], tuple(pos), k["position"]))
+    view = cam.matrix_world.to_3x3() @ Vector((0, 0, -1))
+    want = (to_blender(k["look_at"]) - to_blender(k["position"])).normalized()
+    check(view.angle(want) < 2 * TOL, "frame %d: camera looks at %s (off by %.2e rad)" % (k["frame"], k["look_at"], view.angle(want)))
+    check(abs(cam.data.angle_y - math.radians(k["fov"])) < TOL,
+          "frame %d: vertical field of view %.4f deg (expected %g)" % (k["frame"], math.degrees(cam.data.angle_y), k["fov"]))
+if ex.get("camera_frames"):
+    scene.frame_set(ex["frame_start"])
 lights = [o for o in scene.objects if o.type == "LIGHT"]
 check(len(lights) == 1, "one light (found %d)" % len(lights))
 if lights:

@@ -84,6 +84,27 @@ for meshes in vdb ply; do
 $(grep -E '^(FAIL|ok)|Error|error' "$work/check_$meshes.log")"
   grep -c '^ok' "$work/check_$meshes.log" | xargs echo "--meshes $meshes: export $(python3 -c "print(f'{$t1-$t0:.1f}')") s, checks passed:"
 done
+# A moving camera ([[render.camera_key]], 0 s and 0.12 s = frames 0 and 3): Blender's camera
+# takes the renderer's pose at each key.
+keys='render.camera_key=[{time=0, position=[0.2, 0.25, 0.9], look_at=[0.1, 0.05, 0.1]}, {time=0.12, position=[0.6, 0.35, 0.7], look_at=[0.15, 0.08, 0.1], fov=30}]'
+"$bin" run "${args[@]}" --set "$keys" --stages sim,surface --out "$work/keys" 2> "$work/keys.log" || fail "the camera-key run failed: $(cat "$work/keys.log")"
+"$bin" export blender "$work/keys" --out "$work/keys/keys.blend" 2> "$work/export_keys.log" ||
+  fail "export of the camera-key run failed: $(cat "$work/export_keys.log")"
+python3 - "$work/expect_vdb.json" "$work/keys/mesh" > "$work/expect_keys.json" << 'PY'
+import json, sys
+ex = json.load(open(sys.argv[1]))
+ex["camera_position"], ex["look_at"], ex["camera_tolerance"] = [0.2, 0.25, 0.9], [0.1, 0.05, 0.1], 1e-4
+ex["camera_frames"] = [{"frame": 0, "position": [0.2, 0.25, 0.9], "look_at": [0.1, 0.05, 0.1], "fov": 40},
+                       {"frame": 3, "position": [0.6, 0.35, 0.7], "look_at": [0.15, 0.08, 0.1], "fov": 30}]
+for f in ex["fluids"]:
+    f["reference_ply"] = f["reference_ply"].replace("/run/mesh/", "/keys/mesh/")
+print(json.dumps(ex))
+PY
+blender -b "$work/keys/keys.blend" --factory-startup --python-exit-code 1 -P "$src/tests/blender_check.py" -- \
+  "$work/expect_keys.json" "$work/render_keys.png" > "$work/check_keys.log" 2>&1 ||
+  fail "the camera-key .blend fails its checks:
+$(grep -E '^(FAIL|ok)|Error|error' "$work/check_keys.log")"
+grep -c '^ok' "$work/check_keys.log" | xargs echo "camera keys: checks passed:"
 # The PLY point cloud in Blender's PLY importer: every particle a vertex; which properties it keeps.
 ply=$work/run/points/points.0002.ply
 n=$(head -c 2000 "$ply" | grep -a -m1 '^element vertex' | awk '{print $3}')

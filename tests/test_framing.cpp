@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <fmt/format.h>
+
 #include <filesystem>
 
+#include "render/camera.h"
 #include "render/render_frame.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
@@ -54,4 +57,92 @@ TEST(Framing, WithoutCameraKeysTheSolidsAreFramedAndTheTableIsUnderThem) {
   const mf::Scene dam = mf::loadScene("dam_break");
   EXPECT_TRUE(dam.render.cameraFraming.empty());
   EXPECT_DOUBLE_EQ(dam.render.cameraPosition.z, 0.42);
+}
+
+// [[render.camera_key]]: a cubic Hermite spline per coordinate with Catmull-Rom tangents on the
+// keys' times, zero at the ends. What must hold whatever the keys: the keys are met exactly, the
+// pose is held outside them, the midpoint of two keys is their mean (zero tangents), and the
+// velocity is continuous at an inner key (Catmull-Rom's tangent from both sides).
+TEST(CameraKeys, TheSplineMeetsTheKeysHoldsOutsideAndIsSmoothAtInnerKeys) {
+  const std::string keys =
+      "render.camera_key=[{time=0.5, position=[1,0.2,1], look_at=[0,0,0]},"
+      " {time=1.0, position=[0,0.4,1.5], look_at=[0,0.1,0], fov=30},"
+      " {time=2.5, position=[-1,0.2,1], look_at=[0.1,0,0], fov=50}]";
+  const mf::Scene scene = mf::loadScene("water_oil", {keys});
+  const auto& k = scene.render.cameraKeys;
+  ASSERT_EQ(k.size(), 3u);
+  EXPECT_TRUE(scene.render.cameraFraming.empty()) << "keys are a camera: no automatic framing";
+  EXPECT_DOUBLE_EQ(k[0].fov, 40) << "fov defaults to render.fov";
+  using mf::render::cameraAt;
+  for (const auto& key : k) {
+    const mf::CameraKey c = cameraAt(k, key.time);
+    EXPECT_EQ(c.position, key.position);
+    EXPECT_EQ(c.lookAt, key.lookAt);
+    EXPECT_EQ(c.fov, key.fov);
+  }
+  EXPECT_EQ(cameraAt(k, 0.0).position, k[0].position);
+  EXPECT_EQ(cameraAt(k, 9.0).position, k[2].position);
+  // Between the first two keys the second has tangent (p2 - p0) / 2 s; the mean holds for the
+  // first and the last segment only where both ends' tangents are zero: check with two keys.
+  const std::vector<mf::CameraKey> two(k.begin(), k.begin() + 2);
+  const mf::CameraKey mid = cameraAt(two, 0.75);
+  EXPECT_NEAR(mid.position.y, 0.3, 1e-12);
+  EXPECT_NEAR(mid.fov, 35, 1e-12);
+  // Velocity at the inner key from both sides against Catmull-Rom's (p2 - p0) / (t2 - t0).
+  const double e = 1e-6;
+  const mf::Vec3 left = (cameraAt(k, 1.0).position - cameraAt(k, 1.0 - e).position) / e;
+  const mf::Vec3 right = (cameraAt(k, 1.0 + e).position - cameraAt(k, 1.0).position) / e;
+  const mf::Vec3 want = (k[2].position - k[0].position) / (k[2].time - k[0].time);
+  for (int a = 0; a < 3; ++a) {
+    // One-sided differences are off by the curvature times e: 1e-5 is far above that (|p''| < 10
+    // m/s^2 here) and far below the tangent's 0.5 m/s.
+    EXPECT_NEAR(left[a], want[a], 1e-5) << a;
+    EXPECT_NEAR(right[a], want[a], 1e-5) << a;
+  }
+  // At the end keys the camera comes to rest.
+  EXPECT_NEAR(mf::length(cameraAt(k, 2.5 - e).position - k[2].position) / e, 0, 1e-5);
+}
+
+TEST(CameraKeys, ARenderedFrameUsesThePoseAtItsTime) {
+  // water_oil at 25 frames/s: a camera on the tank at frame 0 that turns away from it by frame 5
+  // (0.2 s). Frame 0 shows the fluid, frame 5 sees none of it.
+  const mf::Scene framed = mf::loadScene("water_oil");
+  const mf::Vec3 eye = framed.render.cameraPosition, at = framed.render.lookAt;
+  const mf::Vec3 away = eye + (eye - at);  // looking straight away from the tank
+  const std::string keys = fmt::format(
+      "render.camera_key=[{{time=0, position=[{},{},{}], look_at=[{},{},{}]}}, {{time=0.2, position=[{},{},{}], look_at=[{},{},{}]}}]",
+      eye.x, eye.y, eye.z, at.x, at.y, at.z, eye.x, eye.y, eye.z, away.x, away.y, away.z);
+  const mf::Scene scene = mf::loadScene("water_oil", {"render.width=96", "render.height=54", keys});
+  const fs::path dir = fs::temp_directory_path() / ("mf_camera_keys_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  mf::Simulation sim(scene);
+  const std::string particles = (dir / "particles.vdb").string(), surface = (dir / "surface.vdb").string();
+  mf::writeParticleFrame(particles, sim.particles(), mf::frameInfoFor(scene));
+  mf::surfacing::surfaceFrame(particles, scene, surface, "", 0);
+  const double at0 = mf::render::renderFrame(surface, scene, "", "", 0).fluidCoverage;
+  const double at5 = mf::render::renderFrame(surface, scene, "", "", 5).fluidCoverage;
+  fs::remove_all(dir);
+  EXPECT_GE(at0, 0.05);
+  EXPECT_EQ(at5, 0.0);
+}
+
+TEST(CameraKeys, BadKeysAreNamedWithTheirKey) {
+  auto problems = [](const std::string& keys, const std::vector<std::string>& more = {}) {
+    std::vector<std::string> o = more;
+    o.push_back(keys);
+    try {
+      mf::loadScene("water_oil", o);
+    } catch (const mf::SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string backwards = problems(
+      "render.camera_key=[{time=1, position=[1,0,1], look_at=[0,0,0]}, {time=0.5, position=[1,0,1], look_at=[0,0,0]}]");
+  EXPECT_NE(backwards.find("render.camera_key[1].time"), std::string::npos) << backwards;
+  const std::string missing = problems("render.camera_key=[{time=1, look_at=[0,0,0]}]");
+  EXPECT_NE(missing.find("render.camera_key[0].position"), std::string::npos) << missing;
+  const std::string both = problems("render.camera_key=[{time=1, position=[1,0,1], look_at=[0,0,0]}]",
+                                    {"render.camera_position=[1,1,1]"});
+  EXPECT_NE(both.find("not both"), std::string::npos) << both;
 }

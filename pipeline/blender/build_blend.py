@@ -189,23 +189,38 @@ def world(man):
     t.links.new(bg.outputs[0], out.inputs["Surface"])
 
 
-def camera(man, coll, root):
-    c = man["camera"]
-    pos, target = Vector(c["position"]), Vector(c["look_at"])
+def camera_matrix(position, look_at):
+    pos, target = Vector(position), Vector(look_at)
     forward = (target - pos).normalized()
     right = forward.cross(Vector((0, 1, 0))).normalized()
     if right.length == 0:  # looking straight up or down: the renderer's choice of image x
         right = Vector((1, 0, 0))
     up = right.cross(forward)
+    # Blender's camera looks down its -z with +y up.
+    m = Matrix((right, up, -forward)).transposed().to_4x4()
+    m.translation = pos
+    return m
+
+
+def camera(man, coll, root):
+    c = man["camera"]
     cam = bpy.data.cameras.new("camera")
     cam.sensor_fit = "VERTICAL"
     cam.angle_y = math.radians(c["fov_vertical_degrees"])
     cam.clip_start, cam.clip_end = 0.01, 1000.0
     obj = link(bpy.data.objects.new("camera", cam), coll, root)
-    # Blender's camera looks down its -z with +y up.
-    m = Matrix((right, up, -forward)).transposed().to_4x4()
-    m.translation = pos
-    obj.matrix_basis = m
+    obj.matrix_basis = camera_matrix(c["position"], c["look_at"])
+    # A moving camera ([[render.camera_key]]): the renderer's pose keyed at every frame, so
+    # that Blender's interpolation between keys never departs from it.
+    for k in man.get("camera_frames", []):
+        m = camera_matrix(k["position"], k["look_at"])
+        obj.location = m.translation
+        # Euler angles compatible with the previous key's: no 360-degree turn between frames.
+        obj.rotation_euler = m.to_euler(obj.rotation_mode, obj.rotation_euler)
+        obj.keyframe_insert("location", frame=k["frame"])
+        obj.keyframe_insert("rotation_euler", frame=k["frame"])
+        cam.angle_y = math.radians(k["fov_vertical_degrees"])
+        cam.keyframe_insert("lens", frame=k["frame"])
     bpy.context.scene.camera = obj
     if c["framing"]:
         obj["multifluid_framing"] = c["framing"]
