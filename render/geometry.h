@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -25,12 +26,16 @@ struct RenderMesh {
   size_t size() const { return triangles.size(); }
 };
 
+class VolumeField;
+
 /// One closed surface and what is inside it.
 struct Surface {
   std::string name;
   RenderMesh mesh;
   MaterialSpec material;
   bool solid = false;  // a container or obstacle (solidSurfaces), not a fluid
+  // The attribute each of the material's ramps reads (render/volume_field.h); null: no ramp.
+  std::shared_ptr<const VolumeField> absorptionField = nullptr, emissionField = nullptr;
 };
 
 /// A recorded ray, to time bare traversal on exactly the rays the shader cast.

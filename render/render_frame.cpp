@@ -12,6 +12,7 @@
 #include "camera.h"
 #include "denoise.h"
 #include "path_tracer.h"
+#include "volume_field.h"
 #include "sim/vdb_file.h"
 
 namespace fs = std::filesystem;
@@ -25,10 +26,16 @@ struct BadSurface : std::runtime_error {
 };
 
 // The level set of each phase in scene.render.phases, checked: a FloatGrid level set of that
-// name with uniform, finite voxels. Every failure names the file.
-std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> readLevelSets(const std::string& path, const Scene& scene) {
+// name with uniform, finite voxels; and the attribute grids its material's ramps read. Every
+// failure names the file.
+struct FluidGrids {
+  uint16_t phase;
+  openvdb::FloatGrid::Ptr levelSet, absorption, emission;  // the ramps' attribute grids, or null
+};
+
+std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scene) {
   const std::string bytes = readSealedVdbFile(path, "surface file", "delete it and run the surface stage again");
-  std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> out;
+  std::vector<FluidGrids> out;
   try {
     MemoryInput buffer(bytes.data(), bytes.size());
     std::istream in(&buffer);
@@ -48,7 +55,19 @@ std::vector<std::pair<uint16_t, openvdb::FloatGrid::Ptr>> readLevelSets(const st
       const double voxel = grid->voxelSize()[0];
       if (!grid->hasUniformVoxels() || !std::isfinite(voxel) || !(voxel > 0))
         throw BadSurface("grid \"" + name + "\" has no uniform, finite voxel size");
-      out.emplace_back(p, grid);
+      FluidGrids fluid{p, grid, nullptr, nullptr};
+      // The attribute grids its material's ramps read (surfacing.attributes writes them).
+      const MaterialSpec& m = scene.render.phaseMaterials[p];
+      for (auto [ramp, field] : {std::pair{&m.absorptionRamp, &fluid.absorption}, std::pair{&m.emissionRamp, &fluid.emission}}) {
+        if (ramp->empty()) continue;
+        const std::string attr = ramp->attribute + "_" + name;
+        openvdb::FloatGrid::Ptr a;
+        for (const auto& g : *grids)
+          if (g && g->getName() == attr) a = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
+        if (!a) throw BadSurface("no float grid \"" + attr + "\" for the material's ramp (is \"" + ramp->attribute + "\" in surfacing.attributes?)");
+        *field = a;
+      }
+      out.push_back(fluid);
     }
   } catch (const BadSurface& e) {
     throw std::runtime_error(path + ": " + e.what());
@@ -75,12 +94,21 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   const auto t0 = std::chrono::steady_clock::now();
   openvdb::initialize();
   std::vector<Surface> surfaces;
-  for (auto& [p, grid] : readLevelSets(surfaceFile, scene)) {
+  for (FluidGrids& f : readLevelSets(surfaceFile, scene)) {
+    openvdb::FloatGrid& grid = *f.levelSet;
     // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
     // voxel size), which would render as films of air.
-    wetContainerWalls(*grid, scene.solids, 2.0 * grid->voxelSize()[0]);
-    RenderMesh mesh = levelSetMesh(*grid);
-    if (mesh.size() > 0) surfaces.push_back({scene.phases[p].name, std::move(mesh), scene.render.phaseMaterials[p]});
+    wetContainerWalls(grid, scene.solids, 2.0 * grid.voxelSize()[0]);
+    RenderMesh mesh = levelSetMesh(grid);
+    if (mesh.size() == 0) continue;
+    Surface s{scene.phases[f.phase].name, std::move(mesh), scene.render.phaseMaterials[f.phase]};
+    try {
+      if (f.absorption) s.absorptionField = std::make_shared<VolumeField>(*f.absorption);
+      if (f.emission) s.emissionField = std::make_shared<VolumeField>(*f.emission);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(surfaceFile + ": " + e.what());
+    }
+    surfaces.push_back(std::move(s));
   }
   result.anyFluid = !surfaces.empty();
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));

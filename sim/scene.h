@@ -2,6 +2,7 @@
 // Parsing and error reporting live in scene_file.h; nothing here knows about TOML.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <set>
@@ -191,6 +192,22 @@ struct SurfacingSettings {
   bool velocity = false;           // also a velocity grid ("vel") from the particles
   bool meshPly = false, meshObj = false;
   bool pointsPly = false;          // also the particles as a PLY point cloud (points/points.NNNN.ply)
+  std::vector<std::string> attributes;  // per phase a grid "<attribute>_<phase>": "temperature", "dye"
+};
+
+/// A colour ramp over a particle attribute that surfacing writes as a grid ("temperature" or
+/// "dye"): evenly spaced colours from lo to hi, linear between them, held beyond.
+struct ColourRamp {
+  std::string attribute;  // empty: no ramp
+  Real lo = 0, hi = 1;
+  std::vector<Vec3> colours;  // at least 2
+  bool empty() const { return attribute.empty(); }
+  Vec3 at(Real v) const {
+    const Real s = std::clamp((v - lo) / (hi - lo), Real(0), Real(1)) * Real(colours.size() - 1);
+    const size_t k = std::min(size_t(s), colours.size() - 2);
+    const Real f = s - Real(k);
+    return colours[k] * (1 - f) + colours[k + 1] * f;
+  }
 };
 
 /// How a phase or a solid looks (read by render/). Units: coefficients per metre, radiance
@@ -209,6 +226,9 @@ struct MaterialSpec {
   Vec3 colour{0.8, 0.8, 0.8}; // Diffuse albedo
   Vec3 emission;              // Emitter radiance; for a Medium, radiance emitted per metre
   int priority = 10;          // nested dielectrics: where volumes overlap, the higher one wins
+  // Inside the volume, absorption and emission from the fluid's attribute grid, in place of
+  // the constants above (phases only; surfacing.attributes must write the attribute).
+  ColourRamp absorptionRamp, emissionRamp;
   Real thickness = 0.004;     // solids: wall thickness, m (glass)
   bool visible = true;        // solids: drawn at all
 };

@@ -564,6 +564,19 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       o.fog = t.boolean("fog", o.fog);
       o.velocity = t.boolean("velocity", o.velocity);
       o.pointsPly = t.boolean("points_ply", o.pointsPly);
+      if (t.has("attributes")) {
+        const toml::node* an = t.node("attributes");
+        const toml::array* aa = an->as_array();
+        if (!aa) r.problem(an, "surfacing.attributes", "expected an array of \"temperature\" and/or \"dye\"");
+        else
+          for (const toml::node& e : *aa) {
+            const std::string a = e.value<std::string>().value_or("");
+            if (a != "temperature" && a != "dye") r.problem(&e, "surfacing.attributes", "\"" + a + "\" is not one of \"temperature\", \"dye\"");
+            else if (std::find(o.attributes.begin(), o.attributes.end(), a) != o.attributes.end())
+              r.problem(&e, "surfacing.attributes", "\"" + a + "\" is listed twice");
+            else o.attributes.push_back(a);
+          }
+      }
       if (t.has("meshes")) {
         const toml::node* mn = t.node("meshes");
         const toml::array* ma = mn->as_array();

@@ -77,6 +77,7 @@ class TableReader {
     return n;
   }
   bool has(const std::string& key) const { return t_ && t_->contains(key); }
+  Reader& reader() { return r_; }
 
   Real number(const std::string& key, Real def, Real lo, Real hi, const std::string& unit = "",
               bool loOpen = false, bool required = false) {

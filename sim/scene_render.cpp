@@ -100,6 +100,40 @@ MaterialSpec defaultSolidMaterial() {
   return m;
 }
 
+/// `key` = { attribute = "temperature" | "dye", range = [lo, hi], colours = [[r, g, b], ...] }.
+void readRamp(TableReader& t, const std::string& key, ColourRamp& ramp, Real maxValue, const std::string& unit) {
+  const toml::table* rt = t.table(key);
+  if (!rt) return;
+  TableReader e(t.reader(), rt, t.path(key));
+  ramp.attribute = e.text("attribute", "", {"temperature", "dye"}, true);
+  const std::vector<Real> range = e.numbers("range", 2, {0, 1}, -1e6, 1e6, "(the attribute's unit)", true);
+  ramp.lo = range[0], ramp.hi = range[1];
+  if (!(ramp.lo < ramp.hi)) t.reader().problem(e.node("range"), e.path("range"), "expected [lo, hi] with lo < hi");
+  const toml::node* cn = e.node("colours");
+  const toml::array* ca = cn ? cn->as_array() : nullptr;
+  if (!ca || ca->size() < 2) {
+    t.reader().problemAt(e.line(), e.path("colours"), fmt::format("expected an array of at least 2 colours [r, g, b], each in [0, {:g}] {}", maxValue, unit));
+    ramp.attribute.clear();
+    return;
+  }
+  for (const toml::node& c : *ca) {
+    const toml::array* rgb = c.as_array();
+    bool ok = rgb && rgb->size() == 3;
+    Vec3 v;
+    for (size_t k = 0; ok && k < 3; ++k) {
+      const auto x = (*rgb)[k].value<double>();
+      ok = x && !(*rgb)[k].is_boolean() && *x >= 0 && *x <= maxValue;
+      if (ok) v[int(k)] = *x;
+    }
+    if (!ok) {
+      t.reader().problem(&c, e.path("colours"), fmt::format("each colour must be [r, g, b], each in [0, {:g}] {}", maxValue, unit));
+      ramp.attribute.clear();
+      return;
+    }
+    ramp.colours.push_back(v);
+  }
+}
+
 void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
   const std::string kind = t.text("kind", "", {"dielectric", "medium", "diffuse", "emitter"});
   if (kind == "dielectric") m.kind = MaterialSpec::Kind::Dielectric;
@@ -115,6 +149,10 @@ void readMaterial(TableReader& t, MaterialSpec& m, bool solid) {
   if (solid) {
     m.thickness = t.number("thickness", m.thickness, 0, 10, "m", true);
     m.visible = t.boolean("visible", m.visible);
+  }
+  if (!solid) {
+    readRamp(t, "absorption_ramp", m.absorptionRamp, 1e6, "1/m");
+    readRamp(t, "emission_ramp", m.emissionRamp, 1e6, "(relative radiance per m)");
   }
 }
 
@@ -217,6 +255,17 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
       }
     }
   }
+  // A ramp reads a grid that surfacing writes: its attribute must be in surfacing.attributes.
+  for (size_t p = 0; p < sc.phases.size(); ++p)
+    for (const auto& [key, ramp] : {std::pair<const char*, const ColourRamp*>{"absorption_ramp", &o.phaseMaterials[p].absorptionRamp},
+                                    {"emission_ramp", &o.phaseMaterials[p].emissionRamp}}) {
+      const auto& attrs = sc.surfacing.attributes;
+      if (!ramp->empty() && std::find(attrs.begin(), attrs.end(), ramp->attribute) == attrs.end()) {
+        const std::string path = "render.material." + sc.phases[p].name + "." + key;
+        r.problemAt(r.lines.count(path) ? r.lines.at(path) : 0, path,
+                    "reads \"" + ramp->attribute + "\", which surfacing does not write: add it to surfacing.attributes");
+      }
+    }
   // The solids' outer bounds: the table top sits under the lowest (the domain's floor only
   // without solids: a domain reaching below the glass left it floating above the table), and
   // without camera keys the camera frames them (or the fluid blocks, without solids).

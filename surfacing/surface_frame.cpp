@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "attribute_grid.h"
 #include "mesh_io.h"
 #include "particle_surface.h"
 #include "sim/file_util.h"
@@ -72,6 +73,20 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
       fog->setName(firstFog ? std::string("density") : "density_" + name);
       firstFog = false;
       grids.push_back(fog);
+    }
+    for (const std::string& attr : s.attributes) {
+      const auto found = particles.scalars.find(attr);
+      if (found == particles.scalars.end())
+        throw std::runtime_error(fmt::format("{}: no particle attribute \"{}\" for surfacing.attributes (the scene's particles carry no {})",
+                                             particleFile, attr, attr));
+      std::vector<float> values;
+      for (size_t i = 0; i < particles.size(); ++i)
+        if (particles.phase[i] == p) values.push_back(found->second[i]);
+      auto grid = attributeGrid(positions, values, 2 * spacing, surface.levelSet->transform());
+      grid->setName(attr + "_" + name);
+      grid->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));
+      grid->insertMeta("frame", openvdb::Int32Metadata(frame));
+      grids.push_back(grid);
     }
     if (surface.velocity) {
       surface.velocity->setName(firstVel ? std::string("vel") : "vel_" + name);

@@ -18,8 +18,8 @@ struct SurfaceFrameResult {
 
 /// Reads `particleFile` (refused, naming it, if damaged or written by a scene with other phases
 /// or spacing), surfaces the scene's [surfacing] phases and writes `surfaceFile`
-/// (one FloatGrid level set per phase, named after it; optional "density" fog copies and "vel"
-/// grids) and, when asked, meshes `meshDir/<phase>.NNNN.ply|obj`. Every file is written under a
+/// (one FloatGrid level set per phase, named after it; optional "density" fog copies, "vel"
+/// grids and "<attribute>_<phase>" attribute grids) and, when asked, meshes `meshDir/<phase>.NNNN.ply|obj`. Every file is written under a
 /// temporary name and renamed; if `surfaceFile` exists (and every mesh asked for), nothing is
 /// done.
 SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& scene, const std::string& surfaceFile,

@@ -1,0 +1,161 @@
+// Colour ramps over particle attributes: surfacing's attribute grid (the Shepard kernel average
+// of the particles' values) and the path tracer's heterogeneous absorption and emission from it,
+// against what they must give analytically; and the scene keys' errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "render/path_tracer.h"
+#include "render/volume_field.h"
+#include "sim/scene_file.h"
+#include "surfacing/attribute_grid.h"
+
+using namespace mf;
+using render::PathTracer;
+using render::Surface;
+
+namespace {
+
+/// Particles on a cubic lattice of spacing h filling [0, L]^3, their value f(position).
+void lattice(double h, double L, const std::function<float(const openvdb::Vec3d&)>& f, std::vector<openvdb::Vec3d>& x,
+             std::vector<float>& v) {
+  const int n = int(std::lround(L / h));
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      for (int k = 0; k <= n; ++k) {
+        x.emplace_back(i * h, j * h, k * h);
+        v.push_back(f(x.back()));
+      }
+}
+
+/// A box as a closed outward mesh (12 triangles).
+render::RenderMesh box(const Vec3& lo, const Vec3& hi) {
+  SolidSpec s;
+  s.shape = SolidSpec::Shape::Box;
+  s.min = lo, s.max = hi;
+  render::RenderMesh walls = render::solidMesh(s, 0), out;
+  out.positions = walls.positions, out.normals = walls.normals;
+  out.triangles.assign(walls.triangles.begin(), walls.triangles.begin() + 12);
+  return out;
+}
+
+/// A field over [lo, hi] on voxels of `voxel`: value f(world position of the voxel centre).
+std::shared_ptr<render::VolumeField> field(const Vec3& lo, const Vec3& hi, double voxel, const std::function<float(const Vec3&)>& f) {
+  auto g = openvdb::FloatGrid::create(0.0f);
+  g->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+  auto a = g->getAccessor();
+  const openvdb::Coord c0 = g->transform().worldToIndexCellCentered(openvdb::Vec3d(lo.x, lo.y, lo.z));
+  const openvdb::Coord c1 = g->transform().worldToIndexCellCentered(openvdb::Vec3d(hi.x, hi.y, hi.z));
+  for (int i = c0.x(); i <= c1.x(); ++i)
+    for (int j = c0.y(); j <= c1.y(); ++j)
+      for (int k = c0.z(); k <= c1.z(); ++k) {
+        const openvdb::Vec3d w = g->transform().indexToWorld(openvdb::Coord(i, j, k));
+        a.setValue(openvdb::Coord(i, j, k), f({w.x(), w.y(), w.z()}));
+      }
+  return std::make_shared<render::VolumeField>(*g);
+}
+
+/// A slab z in [-d, 0] of a clear medium (n = 1) in front of a white emitter, or (black) of
+/// nothing, seen straight on: what the centre pixel receives.
+Vec3 throughSlab(double d, MaterialSpec slab, std::shared_ptr<render::VolumeField> absorption,
+                 std::shared_ptr<render::VolumeField> emission, bool white) {
+  std::vector<Surface> surfaces;
+  Surface s{"slab", box({-0.1, -0.1, -d}, {0.1, 0.1, 0}), slab};
+  s.absorptionField = absorption, s.emissionField = emission;
+  surfaces.push_back(std::move(s));
+  if (white) {
+    MaterialSpec e;
+    e.kind = MaterialSpec::Kind::Emitter;
+    e.emission = {1, 1, 1};
+    surfaces.push_back({"white", box({-1, -1, -0.51}, {1, 1, -0.5}), e});
+  }
+  RenderSettings rs;
+  rs.width = rs.height = 9, rs.samples = 2;
+  rs.skyZenith = rs.skyHorizon = rs.skyGround = {0, 0, 0};
+  rs.floor = false, rs.lightRadius = 0;
+  rs.cameraPosition = {0, 0, 0.5}, rs.lookAt = {0, 0, 0}, rs.fov = 1;
+  return PathTracer(std::move(surfaces), rs).render(0).at(4, 4);
+}
+
+}  // namespace
+
+TEST(AttributeGrid, ReproducesAConstantAndALinearFieldInsideALattice) {
+  const double h = 0.01, L = 0.1;
+  const auto xf = openvdb::math::Transform::createLinearTransform(0.5 * h);
+  for (const bool linear : {false, true}) {
+    std::vector<openvdb::Vec3d> x;
+    std::vector<float> v;
+    auto f = [&](const openvdb::Vec3d& p) { return linear ? float(20 + 600 * p.x() - 100 * p.y()) : 42.0f; };
+    lattice(h, L, f, x, v);
+    const auto g = surfacing::attributeGrid(x, v, 2 * h, *xf);
+    auto a = g->getConstAccessor();
+    size_t inside = 0;
+    double worst = 0;
+    for (auto it = g->cbeginValueOn(); it; ++it) {
+      const openvdb::Vec3d w = xf->indexToWorld(it.getCoord());
+      // Inside: the kernel's whole support (2 h) within the lattice, where its symmetry makes
+      // the Shepard average of a linear field exact.
+      if (w.x() < 2 * h || w.y() < 2 * h || w.z() < 2 * h || w.x() > L - 2 * h || w.y() > L - 2 * h || w.z() > L - 2 * h) continue;
+      ++inside;
+      worst = std::max(worst, std::fabs(double(*it) - double(f(w))));
+    }
+    EXPECT_GT(inside, 2000u);
+    // Float storage of values up to 80: 1e-4 is a few ulps of the sums' rounding.
+    EXPECT_LT(worst, 1e-4) << (linear ? "linear" : "constant");
+    // Nothing beyond the support: a voxel 2 h outside the lattice is inactive.
+    EXPECT_FALSE(a.isValueOn(xf->worldToIndexCellCentered(openvdb::Vec3d(-2.5 * h, 0.05, 0.05))));
+  }
+}
+
+TEST(ColourRamps, AbsorptionAndEmissionFromTheFieldMatchBeerLambertAndTheLineIntegral) {
+  const double d = 0.05, voxel = 0.002;
+  MaterialSpec m;
+  m.ior = 1.0;
+  m.absorption = {100, 100, 100};  // replaced by the ramp: must not show
+  m.absorptionRamp.attribute = "temperature";
+  m.absorptionRamp.lo = 20, m.absorptionRamp.hi = 80;
+  m.absorptionRamp.colours = {{0, 10, 20}, {30, 40, 60}};  // 1/m at 20 and 80 degrees
+  // A constant 50 degrees: sigma = the ramp's middle, (15, 25, 40).
+  const Vec3 c = throughSlab(d, m, field({-0.1, -0.1, -0.06}, {0.1, 0.1, 0.01}, voxel, [](const Vec3&) { return 50.f; }), nullptr, true);
+  const Vec3 sigma{15, 25, 40};
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], std::exp(-sigma[k] * d), 1e-4 * std::exp(-sigma[k] * d)) << k;
+  // Linear along the ray, 20 at the back to 80 at the front: sigma is linear too, and the optical
+  // depth is its mean times d (the midpoint rule and trilinear interpolation are exact there).
+  auto ramp = [&](const Vec3& p) { return float(20 + 60 * std::clamp((p.z + d) / d, 0.0, 1.0)); };
+  const Vec3 c2 = throughSlab(d, m, field({-0.1, -0.1, -0.06}, {0.1, 0.1, 0.01}, voxel, ramp), nullptr, true);
+  const Vec3 mean{15, 25, 40};
+  // The field is clamped outside the slab, so it is linear only inside it: 1e-3 relative allows
+  // for the half voxel at each face where the interpolation meets the clamp.
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(c2[k], std::exp(-mean[k] * d), 1e-3 * std::exp(-mean[k] * d) + 2e-4) << k;
+  // Emission without absorption, against black: radiance = the integral of the emission.
+  MaterialSpec e;
+  e.ior = 1.0;
+  e.emissionRamp = m.absorptionRamp;
+  e.emissionRamp.colours = {{0, 0, 0}, {12, 6, 3}};
+  const Vec3 glow = throughSlab(d, e, nullptr, field({-0.1, -0.1, -0.06}, {0.1, 0.1, 0.01}, voxel, ramp), false);
+  const Vec3 want = Vec3{6, 3, 1.5} * d;  // the mean of a linear ramp from 0 to (12, 6, 3)
+
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(glow[k], want[k], 2e-3 * want[k] + 1e-5) << k;
+}
+
+TEST(ColourRamps, SceneKeysAreCheckedWithTheirKey) {
+  auto problems = [](const std::vector<std::string>& o) {
+    try {
+      loadScene("diffusion", o);
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(problems({}), "") << "the shipped scene's ramp";
+  const std::string notWritten = problems({"surfacing.attributes=[]"});
+  EXPECT_NE(notWritten.find("render.material.liquid.absorption_ramp"), std::string::npos) << notWritten;
+  EXPECT_NE(notWritten.find("surfacing.attributes"), std::string::npos) << notWritten;
+  const std::string badColour = problems({"render.material.liquid.absorption_ramp.colours=[[1, 2, 3]]"});
+  EXPECT_NE(badColour.find("absorption_ramp.colours"), std::string::npos) << badColour;
+  const std::string badRange = problems({"render.material.liquid.absorption_ramp.range=[80, 20]"});
+  EXPECT_NE(badRange.find("absorption_ramp.range"), std::string::npos) << badRange;
+  const std::string badAttr = problems({"surfacing.attributes=[\"pressure\"]"});
+  EXPECT_NE(badAttr.find("surfacing.attributes"), std::string::npos) << badAttr;
+}
