@@ -30,8 +30,11 @@ MaterialSpec defaultPhaseMaterial(const std::string& name, int& otherLiquid) {
     m.absorption = {2.0, 30.0, 40.0};  // red-orange
     m.scattering = 150;
   } else if (has("flame")) {
-    m.kind = MaterialSpec::Kind::Emitter;
-    m.emission = {8, 3, 0.5};
+    // A glowing volume with an invisible boundary (n = 1), not an opaque surface: per metre
+    // about a 1 300 K flame's orange.
+    m.ior = 1.0;
+    m.emission = {30, 9, 1.5};
+    m.priority = 5;
   } else {
     // Absorption per metre: water is faintly blue-green at 10 cm; the dyes read clearly there.
     static const Vec3 kDyes[] = {{4.0, 1.2, 0.8},     // water

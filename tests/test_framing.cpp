@@ -48,11 +48,15 @@ TEST(Framing, EveryShippedSceneShowsItsFluidAtFrameZero) {
 }
 
 TEST(Framing, WithoutCameraKeysTheSolidsAreFramedAndTheTableIsUnderThem) {
-  // boiling's domain reaches 8 cm below its glass: the table belongs under the glass.
-  const mf::Scene scene = mf::loadScene("boiling");
+  // pour_glass's domain reaches 5 cm below its glass: the table belongs under the glass.
+  const mf::Scene scene = mf::loadScene("pour_glass");
   EXPECT_FALSE(scene.render.cameraFraming.empty());
   EXPECT_NEAR(scene.render.floorHeight, scene.solids[0].base.y - scene.render.solidMaterials[0].thickness, 1e-12);
-  EXPECT_GT(scene.render.floorHeight, scene.domainMin.y + 0.05);
+  EXPECT_GT(scene.render.floorHeight, scene.domainMin.y + 0.04);
+  // boiling puts its table under the burner, below the glass, by floor_height.
+  const mf::Scene boiling = mf::loadScene("boiling");
+  EXPECT_TRUE(boiling.render.cameraFraming.empty());
+  EXPECT_DOUBLE_EQ(boiling.render.floorHeight, -0.065);
   // A scene's own camera is kept as given.
   const mf::Scene dam = mf::loadScene("dam_break");
   EXPECT_TRUE(dam.render.cameraFraming.empty());
