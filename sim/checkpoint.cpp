@@ -3,7 +3,8 @@
 // load checks that, then every count and length against the bytes left, before allocating.
 // Layout (native byte order, as written):
 //   "MFCKPT" + 2 digits format version | u64 scene simulationHash | i32 frame | f64 time | u64 nextId
-//   | u32 sizeof(SimulationCounters), the counters | u32 attribute mask | u64 particle count n
+//   | u32 sizeof(SimulationCounters), the counters | u32 phase count, per phase u64 left the domain,
+//   u64 born | u32 attribute mask | u64 particle count n
 //   | per array (ParticleSet::forEachArray order): u32 name length, name, u32 element size, n elements
 //   | u32 effect count | per effect: u32 name length, name, u64 state bytes, state
 //   | u64 XXH3_64bits of all of the above
@@ -25,7 +26,7 @@ namespace mf {
 namespace {
 
 constexpr char kTag[6] = {'M', 'F', 'C', 'K', 'P', 'T'};
-constexpr int kFormatVersion = 3;  // 02: no checksum, no counters size
+constexpr int kFormatVersion = 4;  // 03: no per-phase domain and birth counts  // 02: no checksum, no counters size
 constexpr size_t kChecksumBytes = sizeof(uint64_t);
 constexpr const char* kDelete = "; delete it to simulate from the start";
 
@@ -98,6 +99,8 @@ void Simulation::saveCheckpoint(const std::string& path, int frame) const {
   put(o, nextId_);
   put(o, uint32_t(sizeof(SimulationCounters)));
   put(o, counters_);
+  put(o, uint32_t(leftDomain_.size()));
+  for (size_t p = 0; p < leftDomain_.size(); ++p) put(o, leftDomain_[p]), put(o, bornByPhase_[p]);
   put(o, ps_.attributes);
   put(o, uint64_t(ps_.size()));
   const_cast<ParticleSet&>(ps_).forEachArray([&](const char* name, const auto& v) {
@@ -173,6 +176,9 @@ int Simulation::loadCheckpoint(const std::string& path) {
   const uint64_t nextId = in.get<uint64_t>("next id");
   if (in.get<uint32_t>("counters size") != sizeof(SimulationCounters)) in.fail("checkpoint layout differs (counters)");
   const SimulationCounters counters = in.get<SimulationCounters>("counters");
+  if (in.get<uint32_t>("phase count") != scene_.phases.size()) in.fail("checkpoint layout differs (phases)");
+  std::vector<uint64_t> leftDomain(scene_.phases.size()), born(scene_.phases.size());
+  for (size_t p = 0; p < leftDomain.size(); ++p) leftDomain[p] = in.get<uint64_t>("left the domain"), born[p] = in.get<uint64_t>("born");
   ParticleSet loaded;
   loaded.attributes = in.get<AttributeMask>("attribute mask");
   if (loaded.attributes != ps_.attributes)
@@ -215,6 +221,7 @@ int Simulation::loadCheckpoint(const std::string& path) {
   time_ = time;
   nextId_ = nextId;
   counters_ = counters;
+  leftDomain_ = leftDomain, bornByPhase_ = born;
   for (size_t k = 0; k < effects_.size(); ++k) effects_[k]->loadState(states[k]);
   searchAndDensity();
   return frame;

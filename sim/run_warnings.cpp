@@ -17,8 +17,6 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
   std::vector<std::string> w;
   const SimulationCounters& c = sim.counters();
   const Scene& scene = sim.scene();
-  size_t total = 0;
-  for (size_t n : seeded) total += n;
   if (c.wallClamps > 0)
     w.push_back(fmt::format(
         "{} wall clamps: particles crossed a container wall and were put back on it (splashes reaching a wall with no "
@@ -31,9 +29,17 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
                             100 * c.maxDensityError,
                             scene.solver.pressure == PressureSolverChoice::WCSPH ? "raise the phases' stiffness, or use solver.pressure = \"dfsph\""
                                                                                  : "lower solver.cfl or solver.density_tolerance"));
-  if (total > 0 && double(c.removedOutOfDomain) > 0.01 * double(total))
-    w.push_back(fmt::format("{} particles ({:.1f} % of the {} seeded) left the domain and were removed: is scene.domain_min/max too small?",
-                            c.removedOutOfDomain, 100.0 * double(c.removedOutOfDomain) / double(total), total));
+  // Per phase, against all it ever had (seeded and born): flames an emitter makes and pushes out
+  // are named as flames, not counted against the water.
+  const auto& left = sim.leftDomainByPhase();
+  const auto& born = sim.bornByPhase();
+  for (size_t p = 0; p < left.size() && p < seeded.size(); ++p) {
+    const uint64_t had = seeded[p] + born[p];
+    if (had > 0 && double(left[p]) > 0.01 * double(had))
+      w.push_back(fmt::format("{} {} particles ({:.1f} % of the {} it had, seeded and born) left the domain and were removed: is "
+                              "scene.domain_min/max too small?",
+                              left[p], scene.phases[p].name, 100.0 * double(left[p]) / double(had), had));
+  }
   const std::vector<size_t> now = phaseCounts(sim);
   for (size_t p = 0; p < seeded.size() && p < now.size(); ++p)
     if (seeded[p] > 0 && 2 * now[p] < seeded[p])

@@ -14,7 +14,8 @@ class Simulation;
 std::vector<size_t> phaseCounts(const Simulation& sim);
 
 /// Warnings for the run so far, given the counts per phase as seeded: wall clamps (particles
-/// put back inside a container), watchdog retries (with the last one's reason), a peak compression over 10 %, fluid that left the domain (over 1 % of the seeded), a phase
+/// put back inside a container), watchdog retries (with the last one's reason), a peak compression over 10 %, a phase of which
+/// over 1 % (of all it had, seeded and born) left the domain, a phase
 /// down to less than half of what was seeded (boiled away, removed), no particle left.
 std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<size_t>& seeded);
 

@@ -86,7 +86,8 @@ Real latticeGradientMoment(const SphKernels& K, Real s) {
   });
 }
 
-Simulation::Simulation(const Scene& scene) : scene_(scene) {
+Simulation::Simulation(const Scene& scene)
+    : scene_(scene), leftDomain_(scene.phases.size(), 0), bornByPhase_(scene.phases.size(), 0) {
   const SolverSettings& st = scene_.solver;
   kernels_ = SphKernels(st.particleSpacing * st.smoothingRatio, st.kernel, st.particleSpacing);
   // Gradient normalisation on the rest lattice: sum_j V_j (x_j - x_i) (x) grad W_ij should be
@@ -462,6 +463,7 @@ void Simulation::removeOutOfDomain() {
     for (int a = 0; a < 3; ++a)
       if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) out[i] = 1;
     any |= out[i] != 0;
+    if (out[i]) ++leftDomain_[ps_.phase[i]];
   }
   if (!any) return;
   counters_.removedOutOfDomain += ps_.removeFlagged(out);
@@ -497,14 +499,17 @@ void Simulation::editParticles() {
     const Vec3& x = ps_.position[i];
     for (int a = 0; a < 3; ++a)
       if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) edits.remove[i] = 1;
-    outside += edits.remove[i] ? 1 : 0;
+    if (edits.remove[i]) ++outside, ++leftDomain_[ps_.phase[i]];
   }
   if (byEffects + outside > 0) ps_.removeFlagged(edits.remove);
   counters_.removedByEffects += byEffects;
   counters_.removedOutOfDomain += outside;
   // Births in the order the effects gave them; ids from the counter, which only grows.
   ps_.reserve(ps_.size() + edits.births.size());
-  for (const ParticleInit& p : edits.births) ps_.append(nextId_++, p);
+  for (const ParticleInit& p : edits.births) {
+    ps_.append(nextId_++, p);
+    ++bornByPhase_[p.phase];
+  }
   counters_.born += edits.births.size();
   if (byEffects + outside > 0 || !edits.births.empty()) searchAndDensity();
   times_.edits += since(t0);

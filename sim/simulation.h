@@ -70,6 +70,9 @@ class Simulation {
   Real time() const { return time_; }
   uint64_t stepCount() const { return counters_.steps; }
   const SimulationCounters& counters() const { return counters_; }
+  /// Per phase: particles that left the domain box, and particles effects created (checkpointed).
+  const std::vector<uint64_t>& leftDomainByPhase() const { return leftDomain_; }
+  const std::vector<uint64_t>& bornByPhase() const { return bornByPhase_; }
   /// Why the watchdog last retried a step, and where ("" if it never did; not checkpointed).
   const std::string& lastRetry() const { return lastRetry_; }
   /// What set the last step's dt: a solver key or an effect's name (for messages).
@@ -140,6 +143,7 @@ class Simulation {
   Real time_ = 0;
   uint64_t nextId_ = 0;
   SimulationCounters counters_;
+  std::vector<uint64_t> leftDomain_, bornByPhase_;  // per phase
   StageTimes times_;
   Real gradientMoment_ = 1;
   mutable const char* dtLimiter_ = "solver.max_dt";  // set by chooseDt

@@ -134,12 +134,13 @@ mf::FrameInfo infoFor(const mf::Scene& scene, double time, int frame) { return m
 
 // ---- checkpoints ------------------------------------------------------------------------------
 
-// Field offsets in format 03 (sim/checkpoint.cpp): the tests check the values found there first,
+// Field offsets in format 04 (sim/checkpoint.cpp): the tests check the values found there first,
 // so a layout change fails them instead of editing some other bytes.
 // Tag and version (8), scene hash (8), frame (4), time (8), next id (8), counters' size (4),
-// the counters, the attribute mask (4), then the particle count (8) and the first array's name.
-constexpr size_t kFrameAt = 16, kTimeAt = 20, kCountAt = 40 + sizeof(mf::SimulationCounters) + 4,
-                 kFirstNameAt = kCountAt + 8;
+// the counters, the phase count (4) and per phase two counts (16), the attribute mask (4), then
+// the particle count (8) and the first array's name.
+constexpr size_t kFrameAt = 16, kTimeAt = 20, kPhasesAt = 40 + sizeof(mf::SimulationCounters);
+size_t countAt(size_t phases) { return kPhasesAt + 4 + 16 * phases + 4; }
 
 template <class T>
 T field(const std::string& b, size_t at) {
@@ -226,6 +227,8 @@ TEST(Checkpoints, ValuesNoRunWritesAreRefusedEvenWithAValidChecksum) {
   TempFolderGuard tmp(ck.dir / "tmp");
   ASSERT_EQ(field<int32_t>(ck.good, kFrameAt), 1);
   ASSERT_EQ(field<double>(ck.good, kTimeAt), ck.time);
+  ASSERT_EQ(field<uint32_t>(ck.good, kPhasesAt), ck.scene.phases.size());
+  const size_t kCountAt = countAt(ck.scene.phases.size()), kFirstNameAt = kCountAt + 8;
   ASSERT_EQ(field<uint64_t>(ck.good, kCountAt), ck.particles);
   ASSERT_EQ(field<uint32_t>(ck.good, kFirstNameAt), 2u);
   ASSERT_EQ(ck.good.substr(kFirstNameAt + 4, 2), "id");
@@ -246,6 +249,7 @@ TEST(Checkpoints, ValuesNoRunWritesAreRefusedEvenWithAValidChecksum) {
       {[&](std::string& b) { setField(b, kTimeAt, 1e9); }, "time 1000000000 s is not in"},
       {[&](std::string& b) { setField(b, kFrameAt, int32_t(-1)); }, "frame -1 is outside"},
       {[&](std::string& b) { setField(b, kFrameAt, int32_t(1000000)); }, "frame 1000000 is outside"},
+      {[&](std::string& b) { setField(b, kPhasesAt, uint32_t(ck.scene.phases.size() + 1)); }, "checkpoint layout differs (phases)"},
       {[&](std::string& b) { setField(b, kCountAt, uint64_t(1) << 62); }, "particle count 4611686018427387904 is more"},
       {[&](std::string& b) { setField(b, kCountAt, uint64_t(n + 1)); }, "checkpoint layout differs"},
       {[&](std::string& b) { setField(b, kFirstNameAt, uint32_t(0xffffffff)); }, "is 4294967295 bytes long"},
