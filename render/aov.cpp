@@ -9,6 +9,7 @@ namespace mf::render {
 Aovs::Aovs(int w, int h, std::vector<std::string> masks)
     : width(w), height(h), albedo(size_t(w) * h * 3, 0.0f), normal(size_t(w) * h * 3, 0.0f),
       depth(size_t(w) * h, std::numeric_limits<float>::infinity()), variance(size_t(w) * h, 0.0f),
+      motion(size_t(w) * h * 2, 0.0f),
       maskNames(std::move(masks)), mask(size_t(w) * h * maskNames.size(), 0.0f) {}
 
 namespace {
@@ -21,6 +22,7 @@ void AovPixel::add(const PrimarySample& s, const Vec3& radiance) {
   normal_ += s.normal;
   if (s.depth >= 0) depth_ += s.depth, ++hits_;
   if (s.mask >= 0 && size_t(s.mask) < mask_.size()) mask_[s.mask] += 1;
+  if (s.moved) motion_[0] += s.motion[0], motion_[1] += s.motion[1], ++moved_;
   const double l = luminance(radiance);
   lum_ += l, lum2_ += l * l;
 }
@@ -41,12 +43,13 @@ void AovPixel::store(Aovs& out, int x, int y) const {
   const double mean = lum_ / n_;
   out.variance[p] = n_ > 1 ? float(std::max(0.0, (lum2_ - n_ * mean * mean) / (n_ - 1)) / n_) : 0.0f;
   for (size_t m = 0; m < mask_.size(); ++m) out.mask[p * mask_.size() + m] = float(mask_[m] / n_);
+  for (int c = 0; c < 2; ++c) out.motion[2 * p + c] = moved_ ? float(motion_[c] / moved_) : 0.0f;
 }
 
 void writeFrameExr(const std::string& path, const Image& beauty, const Image* noisy, const Aovs& aovs) {
   std::vector<std::string> names = {"R", "G", "B"};
   if (noisy) names.insert(names.end(), {"beauty_noisy.R", "beauty_noisy.G", "beauty_noisy.B"});
-  names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z"});
+  names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "motion.X", "motion.Y"});
   for (const std::string& m : aovs.maskNames) names.push_back("mask." + m);
   std::vector<bool> fullFloat(names.size(), false);
   for (size_t c = 0; c < names.size(); ++c) fullFloat[c] = names[c] == "Z";  // depth needs more than half's 11 bits
@@ -60,6 +63,7 @@ void writeFrameExr(const std::string& path, const Image& beauty, const Image* no
     for (int c = 0; c < 3; ++c) *o++ = aovs.albedo[3 * p + c];
     for (int c = 0; c < 3; ++c) *o++ = aovs.normal[3 * p + c];
     *o++ = aovs.depth[p];
+    for (int c = 0; c < 2; ++c) *o++ = aovs.motion[2 * p + c];
     for (size_t m = 0; m < masks; ++m) *o++ = aovs.mask[p * masks + m];
   }
   writeExrChannels(path, aovs.width, aovs.height, names, data, fullFloat);

@@ -9,6 +9,9 @@
 //   mask    per fluid: the fraction of samples whose specular chain met that fluid's surface
 //           before any diffuse or scattering vertex (through glass walls, in reflections)
 //   variance the variance of the pixel's mean luminance, from its samples (SVGF's guide)
+//   motion  forward motion vectors: where, in pixels from here (+x right, +y down), the primary
+//           hit's point is in the next frame, by the surface's velocity and the camera's move;
+//           the mean over the samples that hit something (0 on the sky)
 // Written with the beauty as one multi-layer EXR (writeFrameExr).
 #pragma once
 
@@ -24,6 +27,7 @@ struct Aovs {
   int width = 0, height = 0;
   std::vector<float> albedo, normal;  // 3 per pixel
   std::vector<float> depth, variance;  // 1 per pixel
+  std::vector<float> motion;           // 2 per pixel: forward motion vector, pixels
   std::vector<std::string> maskNames;  // one per fluid
   std::vector<float> mask;             // maskNames.size() per pixel
 
@@ -38,6 +42,8 @@ struct PrimarySample {
   Vec3 normal;         // 0: the sky
   double depth = -1;   // < 0: the sky
   int mask = -1;       // index into Aovs::maskNames, -1: no fluid met
+  bool moved = false;  // motion holds the primary hit's image motion to the next frame
+  double motion[2] = {0, 0};  // pixels
 };
 
 /// Sums a pixel's samples in order (the same bits on any thread count) and writes the means.
@@ -48,7 +54,8 @@ class AovPixel {
   void store(Aovs& out, int x, int y) const;
 
  private:
-  size_t n_ = 0, hits_ = 0;
+  size_t n_ = 0, hits_ = 0, moved_ = 0;
+  double motion_[2] = {0, 0};
   Vec3 albedo_, normal_;
   double depth_ = 0, lum_ = 0, lum2_ = 0;
   std::vector<double> mask_;

@@ -24,6 +24,17 @@ struct Camera {
     v = cross(u, w);
   }
 
+  /// The image point (pixels from the top-left corner) that p projects to; false behind the
+  /// camera. The inverse of direction().
+  bool project(const Vec3& p, Real& x, Real& y) const {
+    const Vec3 q = p - position;
+    const Real z = dot(q, w);
+    if (!(z > 0)) return false;
+    x = (dot(q, u) / z / (tanHalf * aspect) + 1) * width / 2;
+    y = (1 - dot(q, v) / z / tanHalf) * height / 2;
+    return true;
+  }
+
   /// The unit direction through image point (x, y), in pixels from the top-left corner.
   Vec3 direction(Real x, Real y) const {
     const Real px = (2 * x / width - 1) * tanHalf * aspect;

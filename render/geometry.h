@@ -22,6 +22,7 @@ struct Float3 {
 struct RenderMesh {
   std::vector<Float3> positions;
   std::vector<Float3> normals;  // per vertex, unit, outward (smooth shading)
+  std::vector<Float3> velocities;  // per vertex, m/s (motion vectors); empty: at rest
   std::vector<std::array<uint32_t, 3>> triangles;
   size_t size() const { return triangles.size(); }
 };

@@ -33,6 +33,8 @@ struct PathTracer::Impl {
   RayScene geometry;
   Real epsilon;  // ray offset, m (the geometry's)
   Camera camera;
+  Camera nextCamera;           // the next frame's (motion vectors)
+  Real frameInterval = 0;      // s to the next frame; 0: no motion vectors
   SphereLight light;
   Sky sky;
   std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
@@ -42,7 +44,7 @@ struct PathTracer::Impl {
   std::vector<uint8_t> heterogeneous;
 
   Impl(std::vector<Surface> surfaces_, const RenderSettings& s)
-      : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces), epsilon(geometry.epsilon()), camera(s),
+      : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces), epsilon(geometry.epsilon()), camera(s), nextCamera(s),
         light(s), sky(s) {
     for (const Surface& sf : surfaces) {
       materials.push_back(sf.material);
@@ -199,6 +201,27 @@ struct PathTracer::Impl {
     return mul(T, light.emission) * (weight * lobe / pdf);
   }
 
+  /// The primary hit's image motion to the next frame: its point moved by the surface's
+  /// velocity (interpolated from the vertices; 0 for solids, the table and the lamp) over the
+  /// frame interval, projected by the next frame's camera, less where this camera sees it.
+  void recordMotion(const Hit& h, PrimarySample& first) const {
+    Vec3 p1 = h.p;
+    if (h.kind == Hit::Mesh) {
+      const RenderMesh& m = surfaces[h.material].mesh;
+      if (!m.velocities.empty()) {
+        const auto& tri = m.triangles[h.prim];
+        const Float3 &a = m.velocities[tri[0]], &b = m.velocities[tri[1]], &c = m.velocities[tri[2]];
+        const Real u = h.u, v = h.v;
+        const Vec3 vel = Vec3{a.x, a.y, a.z} * (1 - u - v) + Vec3{b.x, b.y, b.z} * u + Vec3{c.x, c.y, c.z} * v;
+        p1 = h.p + vel * frameInterval;
+      }
+    }
+    Real x0, y0, x1, y1;
+    if (!camera.project(h.p, x0, y0) || !nextCamera.project(p1, x1, y1)) return;
+    first.moved = true;
+    first.motion[0] = x1 - x0, first.motion[1] = y1 - y0;
+  }
+
   /// The AOVs' view of a hit on the specular chain: the first one's distance and normal (facing
   /// the camera), and the first fluid surface met.
   void recordHit(const Hit& h, const Vec3& d, bool& primary, PrimarySample& first) const {
@@ -208,6 +231,7 @@ struct PathTracer::Impl {
         first.depth = h.t;
         Vec3 n = h.kind == Hit::Light ? unit(h.p - light.centre) : h.ns;
         first.normal = dot(n, d) > 0 ? -n : n;
+        if (frameInterval > 0) recordMotion(h, first);
       }
     }
     if (h.kind == Hit::Mesh && first.mask < 0) first.mask = maskOf[h.material];
@@ -456,6 +480,11 @@ size_t PathTracer::triangleCount() const {
 }
 
 std::vector<std::string> PathTracer::maskNames() const { return impl_->maskNames; }
+
+void PathTracer::setNextFrame(const RenderSettings& next, double interval) {
+  impl_->nextCamera = Camera(next);
+  impl_->frameInterval = interval;
+}
 
 Image PathTracer::render(int frame, RenderStats* stats, const std::function<void(int, int)>& progress,
                          std::vector<RecordedRay>* record, Aovs* aovs) const {

@@ -42,6 +42,10 @@ class PathTracer {
                const std::function<void(int, int)>& progress = {},
                std::vector<RecordedRay>* record = nullptr, Aovs* aovs = nullptr) const;
 
+  /// For the AOVs' motion vectors: the next frame's settings (its camera) and the time to it, s.
+  /// Without it the motion vectors are 0.
+  void setNextFrame(const RenderSettings& next, double interval);
+
   /// The fluids' names, one per mask channel of the AOVs: the surfaces that are not solids.
   std::vector<std::string> maskNames() const;
 

@@ -20,6 +20,7 @@ struct Hit {
   Real t = 0;
   int material = -1;  // also the geometry id
   unsigned prim = 0;  // the triangle (meshes)
+  float u = 0, v = 0;  // barycentric coordinates on it (meshes)
   Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
 };
 
@@ -89,6 +90,7 @@ class RayScene {
     hit.t = rh.ray.tfar;
     hit.material = int(rh.hit.geomID);
     hit.prim = rh.hit.primID;
+    hit.u = rh.hit.u, hit.v = rh.hit.v;
     // Embree's Ng is cross(v1 - v0, v2 - v0): outward for our counter-clockwise meshes.
     // Shadow rays use only its side (the sign of dot(d, ng)): unnormalised there.
     hit.ng = Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};

@@ -2,6 +2,7 @@
 
 #include <openvdb/io/Stream.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Interpolation.h>
 
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,7 @@ struct BadSurface : std::runtime_error {
 struct FluidGrids {
   uint16_t phase;
   openvdb::FloatGrid::Ptr levelSet, absorption, emission;  // the ramps' attribute grids, or null
+  openvdb::Vec3SGrid::Ptr velocity;                         // surfacing.velocity's, or null
 };
 
 std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scene) {
@@ -55,7 +57,10 @@ std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scen
       const double voxel = grid->voxelSize()[0];
       if (!grid->hasUniformVoxels() || !std::isfinite(voxel) || !(voxel > 0))
         throw BadSurface("grid \"" + name + "\" has no uniform, finite voxel size");
-      FluidGrids fluid{p, grid, nullptr, nullptr};
+      FluidGrids fluid{p, grid, nullptr, nullptr, nullptr};
+      for (const auto& g : *grids)
+        if (auto v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(g))
+          if (const auto m = v->getMetadata<openvdb::StringMetadata>("fluid"); m && m->value() == name) fluid.velocity = v;
       // The attribute grids its material's ramps read (surfacing.attributes writes them).
       const MaterialSpec& m = scene.render.phaseMaterials[p];
       for (auto [ramp, field] : {std::pair{&m.absorptionRamp, &fluid.absorption}, std::pair{&m.emissionRamp, &fluid.emission}}) {
@@ -101,6 +106,13 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
     wetContainerWalls(grid, scene.solids, 2.0 * grid.voxelSize()[0]);
     RenderMesh mesh = levelSetMesh(grid);
     if (mesh.size() == 0) continue;
+    if (f.velocity) {  // per vertex, for the motion vectors
+      openvdb::tools::GridSampler<openvdb::Vec3SGrid, openvdb::tools::BoxSampler> sampler(*f.velocity);
+      for (const Float3& p : mesh.positions) {
+        const openvdb::Vec3s v = sampler.wsSample(openvdb::Vec3d(p.x, p.y, p.z));
+        mesh.velocities.push_back({v.x(), v.y(), v.z()});
+      }
+    }
     Surface s{scene.phases[f.phase].name, std::move(mesh), scene.render.phaseMaterials[f.phase]};
     try {
       if (f.absorption) s.absorptionField = std::make_shared<VolumeField>(*f.absorption);
@@ -113,6 +125,7 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   result.anyFluid = !surfaces.empty();
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
   PathTracer tracer(std::move(surfaces), atTime(scene.render, frame / scene.frameRate));
+  tracer.setNextFrame(atTime(scene.render, (frame + 1) / scene.frameRate), 1 / scene.frameRate);
   result.triangles = tracer.triangleCount();
   result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // Solids are glass to see through: what counts is a fluid's surface behind them.

@@ -92,6 +92,7 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
       surface.velocity->setName(firstVel ? std::string("vel") : "vel_" + name);
       firstVel = false;
       surface.velocity->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);
+      surface.velocity->insertMeta("fluid", openvdb::StringMetadata(name));  // "vel" names no fluid
       grids.push_back(surface.velocity);
     }
     if (s.meshPly || s.meshObj) {

@@ -221,7 +221,8 @@ TEST(RenderAov, ExrHasTheLayersWithSaneValues) {
     return c;
   };
   const int nx = channel("N.X"), ny = channel("N.Y"), nz = channel("N.Z"), z = channel("Z"), mask = channel("mask.water");
-  for (const char* name : {"R", "G", "B", "beauty_noisy.R", "beauty_noisy.G", "beauty_noisy.B", "albedo.R", "albedo.G", "albedo.B"})
+  for (const char* name : {"R", "G", "B", "beauty_noisy.R", "beauty_noisy.G", "beauty_noisy.B", "albedo.R", "albedo.G", "albedo.B",
+                           "motion.X", "motion.Y"})
     channel(name);
   ASSERT_TRUE(nx >= 0 && ny >= 0 && nz >= 0 && z >= 0 && mask >= 0);
   size_t covered = 0, water = 0;

@@ -1,4 +1,4 @@
-// Colour ramps over particle attributes: surfacing's attribute grid (the Shepard kernel average
+// Colour ramps over particle attributes, and motion vectors: surfacing's attribute grid (the Shepard kernel average
 // of the particles' values) and the path tracer's heterogeneous absorption and emission from it,
 // against what they must give analytically; and the scene keys' errors.
 #include <gtest/gtest.h>
@@ -158,4 +158,37 @@ TEST(ColourRamps, SceneKeysAreCheckedWithTheirKey) {
   EXPECT_NE(badRange.find("absorption_ramp.range"), std::string::npos) << badRange;
   const std::string badAttr = problems({"surfacing.attributes=[\"pressure\"]"});
   EXPECT_NE(badAttr.find("surfacing.attributes"), std::string::npos) << badAttr;
+}
+
+// Motion vectors (render/aov.h): a plane facing the camera at distance D. Every point of it is
+// at depth D, so a sideways move dx of the surface, or -dx of the camera, shifts its image by
+// dx / D / (tan(fov/2) aspect) * width/2 pixels, everywhere on it.
+TEST(MotionVectors, SurfaceVelocityAndCameraMoveGiveTheProjectedShift) {
+  const double D = 0.5, dt = 0.04;
+  auto render = [&](const Vec3& velocity, const Vec3& cameraMove, render::Aovs& aovs) {
+    std::vector<Surface> surfaces;
+    MaterialSpec diffuse;
+    diffuse.kind = MaterialSpec::Kind::Diffuse;
+    Surface s{"plane", box({-1, -1, -0.01}, {1, 1, 0}), diffuse};
+    s.mesh.velocities.assign(s.mesh.positions.size(), {float(velocity.x), float(velocity.y), float(velocity.z)});
+    surfaces.push_back(std::move(s));
+    RenderSettings rs;
+    rs.width = 32, rs.height = 18, rs.samples = 4, rs.floor = false;
+    rs.cameraPosition = {0, 0, D}, rs.lookAt = {0, 0, 0}, rs.fov = 30;
+    RenderSettings next = rs;
+    next.cameraPosition += cameraMove, next.lookAt += cameraMove;
+    PathTracer tracer(std::move(surfaces), rs);
+    tracer.setNextFrame(next, dt);
+    tracer.render(0, nullptr, {}, nullptr, &aovs);
+  };
+  const double perMetre = 1 / D / (std::tan(15 * M_PI / 180) * 32.0 / 18.0) * 32 / 2;  // pixels per m of sideways move
+  render::Aovs surface, camera;
+  render({0.5, -0.25, 0}, {}, surface);                 // the plane moves right and down
+  render({}, {-0.02, 0.01, 0}, camera);                // the camera moves left and up: the same image shift
+  for (int p : {0, 17 * 32 / 2 + 5, 18 * 32 - 1}) {
+    EXPECT_NEAR(surface.motion[2 * p], 0.5 * dt * perMetre, 1e-4) << p;
+    EXPECT_NEAR(surface.motion[2 * p + 1], 0.25 * dt * perMetre, 1e-4) << p;  // image y points down
+    EXPECT_NEAR(camera.motion[2 * p], 0.02 * perMetre, 1e-4) << p;
+    EXPECT_NEAR(camera.motion[2 * p + 1], 0.01 * perMetre, 1e-4) << p;
+  }
 }
