@@ -1,6 +1,7 @@
-// Colour ramps over particle attributes, and motion vectors: surfacing's attribute grid (the Shepard kernel average
+// Colour ramps over particle attributes: surfacing's attribute grid (the Shepard kernel average
 // of the particles' values) and the path tracer's heterogeneous absorption and emission from it,
-// against what they must give analytically; and the scene keys' errors.
+// against what they must give analytically, and the scene keys' errors; and the AOVs' motion
+// vectors against the projected shift.
 #include <gtest/gtest.h>
 
 #include <cmath>
