@@ -3,6 +3,7 @@
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tree/LeafManager.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "sim/solids.h"
@@ -119,16 +120,18 @@ RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet) {
   return m;
 }
 
-void wetContainerWalls(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, double depth) {
-  if (solids.empty() || depth <= 0) return;
+void wetContainerWalls(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, const std::vector<double>& depths) {
+  if (solids.empty() || *std::max_element(depths.begin(), depths.end()) <= 0) return;
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
   const openvdb::math::Transform& xform = grid.transform();
   leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
     for (auto v = leaf.beginValueOn(); v; ++v) {
       const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
       double phi = v.getValue();
-      for (const SolidSpec& c : solids) {
-        const double w = std::abs(surfacing::containerDistance(c, p));
+      for (size_t k = 0; k < solids.size(); ++k) {
+        const double depth = depths[k];
+        if (depth <= 0) continue;
+        const double w = std::abs(surfacing::containerDistance(solids[k], p));
         if (w < depth) phi = std::min(phi, std::max(phi - depth, w - depth));
       }
       v.setValue(float(phi));

@@ -51,8 +51,9 @@ RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet);
 /// which the renderer would show as a film of air) is extended through the gap and `depth` into
 /// the wall, where the glass's higher priority hides it: phi = min(phi, max(phi - depth,
 /// |w| - depth)), w the distance to the wall. Away from walls nothing changes; at the wall the
-/// free surface rises by at most `depth`, like a meniscus.
-void wetContainerWalls(openvdb::FloatGrid& levelSet, const std::vector<SolidSpec>& solids, double depth);
+/// free surface rises by at most `depth`, like a meniscus. One depth per solid (0: none), less
+/// than its wall's thickness, or the liquid shows as a film outside the glass.
+void wetContainerWalls(openvdb::FloatGrid& levelSet, const std::vector<SolidSpec>& solids, const std::vector<double>& depths);
 
 /// A container's wall of the given thickness around its fluid region (outside it), with
 /// smooth normals on curved parts and sharp edges at corners.

@@ -48,11 +48,11 @@ TEST(Framing, EveryShippedSceneShowsItsFluidAtFrameZero) {
 }
 
 TEST(Framing, WithoutCameraKeysTheSolidsAreFramedAndTheTableIsUnderThem) {
-  // pour_glass's domain reaches 5 cm below its glass: the table belongs under the glass.
-  const mf::Scene scene = mf::loadScene("pour_glass");
+  // water_oil's domain reaches 1 cm below its tank: the table belongs under the tank's wall.
+  const mf::Scene scene = mf::loadScene("water_oil");
   EXPECT_FALSE(scene.render.cameraFraming.empty());
-  EXPECT_NEAR(scene.render.floorHeight, scene.solids[0].base.y - scene.render.solidMaterials[0].thickness, 1e-12);
-  EXPECT_GT(scene.render.floorHeight, scene.domainMin.y + 0.04);
+  EXPECT_NEAR(scene.render.floorHeight, scene.solids[0].min.y - scene.render.solidMaterials[0].thickness, 1e-12);
+  EXPECT_GT(scene.render.floorHeight, scene.domainMin.y + 0.005);
   // boiling puts its table under the burner, below the glass, by floor_height.
   const mf::Scene boiling = mf::loadScene("boiling");
   EXPECT_TRUE(boiling.render.cameraFraming.empty());
