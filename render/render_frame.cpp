@@ -69,7 +69,9 @@ std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scen
         openvdb::FloatGrid::Ptr a;
         for (const auto& g : *grids)
           if (g && g->getName() == attr) a = openvdb::gridPtrCast<openvdb::FloatGrid>(g);
-        if (!a) throw BadSurface("no float grid \"" + attr + "\" for the material's ramp (is \"" + ramp->attribute + "\" in surfacing.attributes?)");
+        if (!a)
+          throw BadSurface("no float grid \"" + attr + "\" for the material's ramp (surfacing.attributes must list \"" +
+                           ramp->attribute + "\" when the frame is surfaced: delete the surface frames made without it)");
         *field = a;
       }
       out.push_back(fluid);
