@@ -627,4 +627,17 @@ Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& o
   return parseScene(text, pathOrName, overrides);
 }
 
+std::set<std::string> keysReadBy(const std::function<void()>& parse) {
+  std::set<std::string> keys;
+  scene_reading::keyLog() = &keys;
+  try {
+    parse();
+  } catch (...) {
+    scene_reading::keyLog() = nullptr;
+    throw;
+  }
+  scene_reading::keyLog() = nullptr;
+  return keys;
+}
+
 }  // namespace mf

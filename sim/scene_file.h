@@ -2,6 +2,8 @@
 // line, the key and the allowed range; all problems of a file are collected, not just the first.
 #pragma once
 
+#include <functional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -37,6 +39,10 @@ Scene parseScene(const std::string& text, const std::string& sourceName,
 /// A path (containing '/' or ending in ".toml") is read as a file (at most 1 MiB; a folder is
 /// refused); any other word names an embedded scene.
 Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides = {});
+
+/// Every key path ("solver.cfl", "fluid[0].min") the parser asked for while `parse` ran, given
+/// or not: what the scene reference must document (its completeness test). Not thread-safe.
+std::set<std::string> keysReadBy(const std::function<void()>& parse);
 
 /// Names of the scenes compiled into the program (configs/*.toml at build time).
 std::vector<std::string> embeddedSceneNames();

@@ -56,6 +56,12 @@ class Reader {
   std::set<std::string> overridden_;
 };
 
+/// Where TableReader notes every key path it is asked for, when set (keysReadBy, scene_file.h).
+inline std::set<std::string>*& keyLog() {
+  static std::set<std::string>* log = nullptr;
+  return log;
+}
+
 /// Reads the keys of one table; reports unknown keys when done.
 class TableReader {
  public:
@@ -72,6 +78,7 @@ class TableReader {
   int line() const { return t_ ? int(t_->source().begin.line) : 0; }
   const toml::node* node(const std::string& key) {
     used_.insert(key);
+    if (keyLog()) keyLog()->insert(path(key));
     const toml::node* n = t_ ? t_->get(key) : nullptr;
     r_.noteLine(path(key), n);
     return n;
