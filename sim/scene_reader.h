@@ -216,6 +216,9 @@ class TableReader {
   std::set<std::string> used_;
 };
 
+/// [[solid]] and [[fluid]] (with [[fluid.subtract]]), after [[phase]] is read.
+void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc);
+
 /// [render] and [render.material.NAME] (NAME: a phase or a solid), after [surfacing] is read.
 void readRender(Reader& r, TableReader& top, Scene& sc);
 
