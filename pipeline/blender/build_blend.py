@@ -65,19 +65,22 @@ def make_material(name, m):
         p.inputs["IOR"].default_value = m["ior"]
         tree.links.new(p.outputs[0], out.inputs["Surface"])
         extra = None
-        if m["kind"] == "medium":
-            # Isotropic scattering sigma_s, and emission as radiance per metre.
+        if m["kind"] == "medium":  # isotropic scattering sigma_s
             scatter = tree.nodes.new("ShaderNodeVolumeScatter")
             scatter.inputs["Density"].default_value = m["scattering"]
             scatter.inputs["Color"].default_value = (1, 1, 1, 1)
             extra = scatter
-            e = m["emission"]
-            if max(e) > 0:
-                em = tree.nodes.new("ShaderNodeEmission")
-                em.inputs["Color"].default_value = [c / max(e) for c in e] + [1.0]
-                em.inputs["Strength"].default_value = max(e)
+        # Emission as radiance per metre, in any volume (the renderer's flames are dielectrics).
+        e = m["emission"]
+        if max(e) > 0:
+            em = tree.nodes.new("ShaderNodeEmission")
+            em.inputs["Color"].default_value = [c / max(e) for c in e] + [1.0]
+            em.inputs["Strength"].default_value = max(e)
+            if extra is None:
+                extra = em
+            else:
                 add = tree.nodes.new("ShaderNodeAddShader")
-                tree.links.new(scatter.outputs[0], add.inputs[0])
+                tree.links.new(extra.outputs[0], add.inputs[0])
                 tree.links.new(em.outputs[0], add.inputs[1])
                 extra = add
         add_absorption(tree, out, m["absorption"], extra)
