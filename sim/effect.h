@@ -37,6 +37,9 @@ struct StepContext {
   const CellGrid* boundaryGrid = nullptr;  // null when the scene has no solids
   Vec3 gridOrigin;
   Real particleSpacing = 0;
+  // Pair separations: x_i - x_j is periodic.separation(x_i, x_j) (the nearest image); it is
+  // plain subtraction, bit for bit, when no axis wraps. Pass it to findNeighbors too.
+  PeriodicDomain periodic;
 };
 
 /// Births and removals that effects ask for after an accepted step. The simulation applies them

@@ -85,7 +85,8 @@ int64_t CellGrid::findCell(uint64_t key) const {
   return it - cellKeys_.begin();
 }
 
-void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out) const {
+void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out,
+                             const PeriodicDomain& periodic) const {
   const size_t nPoints = sorted_.size();
   const size_t nCells = cellKeys_.size();
   const size_t nBlocks = (nCells + kCellsPerBlock - 1) / kCellsPerBlock;
@@ -100,36 +101,82 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
     std::vector<uint32_t>& buf = blockIndices[b];
     buf.clear();
     const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
-    uint32_t ranges[27][2];
-    Vec3 boxLo[27];  // lower corner of each neighbour cell, to skip cells out of reach
+    // Up to 27 images (the cell itself, and one period up or down on up to three axes: a cell
+    // can be near both faces of a period under 2 radius + its size). A query box
+    // aligned with the other grid's cells needs its 27 neighbours; one that is not (another
+    // origin, or an image shifted by a period) overlaps up to 4 cells per axis.
+    constexpr int kMaxRanges = 64 * 27;
+    uint32_t ranges[kMaxRanges][2];
+    Vec3 boxLo[kMaxRanges];  // lower corner of each neighbour cell, to skip cells out of reach
+    int rangeImage[kMaxRanges];
+    Vec3 imageShift[27];
+    const Real cs = other.cellSize_;
+    const auto addCell = [&](int& nr, int32_t x, int32_t y, int32_t z, int image) {
+      if (x < 0 || y < 0 || z < 0 || x > kMaxCoord || y > kMaxCoord || z > kMaxCoord) return;
+      const int64_t oc = other.findCell(mortonKey(x, y, z));
+      if (oc < 0) return;
+      ranges[nr][0] = other.cellStart_[oc];
+      ranges[nr][1] = other.cellStart_[oc + 1];
+      boxLo[nr] = other.origin_ + Vec3(x, y, z) * cs;
+      rangeImage[nr] = image;
+      ++nr;
+    };
+    // The other grid's cells that meet [lo - radius, lo + cellSize_ + radius) on every axis.
+    const auto addOverlapped = [&](int& nr, const Vec3& lo, int image) {
+      int32_t first[3], last[3];
+      for (int a = 0; a < 3; ++a) {
+        const Real f = std::floor((lo[a] - radius - other.origin_[a]) / cs);
+        const Real l = std::ceil((lo[a] + cellSize_ + radius - other.origin_[a]) / cs) - 1;
+        first[a] = f < -1 ? -1 : (f > kMaxCoord + 1 ? kMaxCoord + 1 : int32_t(f));
+        last[a] = l < -1 ? -1 : (l > kMaxCoord + 1 ? kMaxCoord + 1 : int32_t(l));
+        last[a] = std::min(last[a], first[a] + 3);
+      }
+      for (int32_t z = first[2]; z <= last[2]; ++z)
+        for (int32_t y = first[1]; y <= last[1]; ++y)
+          for (int32_t x = first[0]; x <= last[0]; ++x) addCell(nr, x, y, z, image);
+    };
     for (size_t c = c0; c < c1; ++c) {
       int nr = 0;
-      int32_t base[3] = {cellCoord_[3 * c], cellCoord_[3 * c + 1], cellCoord_[3 * c + 2]};
-      if (!sameLayout) {
-        // Cell centre in the other grid's coordinates.
-        const Vec3 centre = origin_ + Vec3(base[0] + 0.5, base[1] + 0.5, base[2] + 0.5) * cellSize_;
-        other.cellOf(centre, base);
+      const int32_t base[3] = {cellCoord_[3 * c], cellCoord_[3 * c + 1], cellCoord_[3 * c + 2]};
+      const Vec3 cellLo = origin_ + Vec3(base[0], base[1], base[2]) * cellSize_;
+      imageShift[0] = Vec3();
+      if (sameLayout) {
+        for (int dz = -1; dz <= 1; ++dz)
+          for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) addCell(nr, base[0] + dx, base[1] + dy, base[2] + dz, 0);
+      } else {
+        addOverlapped(nr, cellLo, 0);
       }
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int32_t x = base[0] + dx, y = base[1] + dy, z = base[2] + dz;
-            if (x < 0 || y < 0 || z < 0) continue;
-            const int64_t oc = other.findCell(mortonKey(x, y, z));
-            if (oc < 0) continue;
-            ranges[nr][0] = other.cellStart_[oc];
-            ranges[nr][1] = other.cellStart_[oc + 1];
-            boxLo[nr] = other.origin_ + Vec3(x, y, z) * other.cellSize_;
-            ++nr;
-          }
-      const Real cs = other.cellSize_;
+      int nImages = 1;
+      if (periodic.any()) {
+        // Per periodic axis, the shifts that bring this cell's points near the opposite face.
+        Real axisShift[3][3];
+        int axisCount[3];
+        for (int a = 0; a < 3; ++a) {
+          axisShift[a][0] = 0;
+          axisCount[a] = 1;
+          if (!periodic.wraps(a)) continue;
+          const Real L = periodic.length[a];
+          if (cellLo[a] - periodic.lo[a] < radius) axisShift[a][axisCount[a]++] = L;
+          if (periodic.lo[a] + L - (cellLo[a] + cellSize_) < radius) axisShift[a][axisCount[a]++] = -L;
+        }
+        for (int iz = 0; iz < axisCount[2]; ++iz)
+          for (int iy = 0; iy < axisCount[1]; ++iy)
+            for (int ix = 0; ix < axisCount[0]; ++ix) {
+              if (ix == 0 && iy == 0 && iz == 0) continue;
+              imageShift[nImages] = Vec3(axisShift[0][ix], axisShift[1][iy], axisShift[2][iz]);
+              addOverlapped(nr, cellLo + imageShift[nImages], nImages);
+              ++nImages;
+            }
+      }
       const Vec3* xs = other.sortedPoints_.data();
       const uint32_t* js = other.sorted_.data();
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
         const uint32_t i = sorted_[p];
-        const Vec3 xi = sortedPoints_[p];
         const size_t before = buf.size();
         for (int r = 0; r < nr; ++r) {
+          const int image = rangeImage[r];
+          const Vec3 xi = image == 0 ? sortedPoints_[p] : sortedPoints_[p] + imageShift[image];
           // Distance from xi to the cell's box: a cell entirely beyond the radius is skipped
           // (about a quarter of the 27 for a radius equal to the cell size).
           Real d2 = 0;

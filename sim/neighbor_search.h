@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "periodic.h"
 #include "vec3.h"
 
 namespace mf {
@@ -43,7 +44,11 @@ class CellGrid {
   /// cell size), excluding itself when other == this. Both grids must have been built from the
   /// points passed here (positions are read from the grids' sorted copies). Rows follow the point index; inside a row,
   /// neighbours come in a fixed order (the 27 cells in z, y, x order, then cell order).
-  void findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out) const;
+  /// With periodic axes, points within `radius` of a periodic face also look around their
+  /// images one period across (after the direct cells, images in a fixed order); the period
+  /// must exceed 2 radius, so each neighbour is found once.
+  void findNeighbors(const CellGrid& other, Real radius, bool excludeSelf, NeighborLists& out,
+                     const PeriodicDomain& periodic = {}) const;
 
   /// Cell coordinates of a position (clamped to the grid's non-negative range).
   void cellOf(const Vec3& p, int32_t c[3]) const;

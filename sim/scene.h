@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "kernels.h"
+#include "periodic.h"
 #include "vec3.h"
 
 namespace mf {
@@ -277,6 +278,7 @@ struct Scene {
   Real endTime = 1.0;       // s
   Real frameRate = 30;      // frames per second
   Vec3 domainMin, domainMax;  // particles leaving this box are removed and counted
+  uint8_t periodicAxes = 0;   // bit a: the box wraps along axis a (scene.periodic)
   SolverSettings solver;
   std::vector<PhaseSpec> phases;
   std::vector<SolidSpec> solids;
@@ -295,6 +297,7 @@ struct Scene {
   int lineOf(const std::string& key) const;
   int phaseIndex(const std::string& name) const;  // -1 if absent
   const EffectSpec* effect(const std::string& name) const;
+  PeriodicDomain periodic() const { return {periodicAxes, domainMin, domainMax - domainMin}; }
 };
 
 }  // namespace mf

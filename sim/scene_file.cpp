@@ -297,6 +297,27 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     readSolver(solver, sc.solver);
     if (sc.solver.minDt > sc.solver.maxDt) r.problem(solver.node("min_dt"), "solver.min_dt", "must not exceed solver.max_dt");
 
+    if (scene.has("periodic")) {
+      const toml::node* pn = scene.node("periodic");
+      const toml::array* pa = pn->as_array();
+      if (!pa) r.problem(pn, "scene.periodic", "expected an array of axes, e.g. [\"x\", \"z\"]");
+      else
+        for (const toml::node& e : *pa) {
+          const std::string a = e.value<std::string>().value_or("");
+          const int axis = a == "x" ? 0 : a == "y" ? 1 : a == "z" ? 2 : -1;
+          if (axis < 0) r.problem(&e, "scene.periodic", "\"" + a + "\" is not one of \"x\", \"y\", \"z\"");
+          else if (sc.periodicAxes & (1u << axis)) r.problem(&e, "scene.periodic", "\"" + a + "\" is listed twice");
+          else {
+            sc.periodicAxes = uint8_t(sc.periodicAxes | (1u << axis));
+            // The minimum image is unique only while a period exceeds two support radii.
+            const Real L = sc.domainMax[axis] - sc.domainMin[axis];
+            const Real h = sc.solver.smoothingRatio * sc.solver.particleSpacing;
+            if (L > 0 && h > 0 && !(L > 2 * h))
+              r.problem(&e, "scene.periodic", fmt::format("the domain is {:g} m along {}; a periodic axis needs more than two support radii ({:g} m)", L, a, 2 * h));
+          }
+        }
+    }
+
     std::map<std::string, std::vector<std::pair<int, std::string>>> phaseKeyLines;  // effect-specific [[phase]] keys given, and where
     const auto phaseTables = top.tables("phase");
     if (phaseTables.empty()) r.problemAt(1, "phase", "at least one [[phase]] is required");
@@ -327,6 +348,18 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     }
 
     readSolidsAndFluids(r, top, sc);
+    // A box container wraps with the domain: it must reach the periodic faces (its walls across
+    // a periodic axis are not sampled, and a narrower box would still clamp there).
+    for (size_t k = 0; k < sc.solids.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        const SolidSpec& so = sc.solids[k];
+        if (!(sc.periodicAxes >> a & 1) || so.shape != SolidSpec::Shape::Box) continue;
+        if (so.min[a] <= sc.domainMin[a] && so.max[a] >= sc.domainMax[a]) continue;
+        const std::string key = fmt::format("solid[{}].min", k);
+        r.problemAt(r.lines.count(key) ? r.lines[key] : 0, key,
+                    fmt::format("scene.periodic wraps {}: a box must reach the domain's faces there ({:g} to {:g} m)",
+                                "xyz"[a], sc.domainMin[a], sc.domainMax[a]));
+      }
 
     // Effects: a table per enabled effect, [effects.NAME], with that effect's own keys.
     const toml::table* et = top.table("effects");
@@ -485,8 +518,8 @@ Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& o
   return parseScene(text, pathOrName, overrides);
 }
 
-std::set<std::string> keysReadBy(const std::function<void()>& parse) {
-  std::set<std::string> keys;
+std::map<std::string, std::string> keyDefaultsReadBy(const std::function<void()>& parse) {
+  std::map<std::string, std::string> keys;
   scene_reading::keyLog() = &keys;
   try {
     parse();

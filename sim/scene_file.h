@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -41,8 +42,9 @@ Scene parseScene(const std::string& text, const std::string& sourceName,
 Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides = {});
 
 /// Every key path ("solver.cfl", "fluid[0].min") the parser asked for while `parse` ran, given
-/// or not: what the scene reference must document (its completeness test). Not thread-safe.
-std::set<std::string> keysReadBy(const std::function<void()>& parse);
+/// or not, with the default it would take ("0.4", "\"wcsph\"", "true", "[0, 0, 0]"; "" where it
+/// has no literal one): what the scene reference must document (its test). Not thread-safe.
+std::map<std::string, std::string> keyDefaultsReadBy(const std::function<void()>& parse);
 
 /// Names of the scenes compiled into the program (configs/*.toml at build time).
 std::vector<std::string> embeddedSceneNames();

@@ -56,9 +56,10 @@ class Reader {
   std::set<std::string> overridden_;
 };
 
-/// Where TableReader notes every key path it is asked for, when set (keysReadBy, scene_file.h).
-inline std::set<std::string>*& keyLog() {
-  static std::set<std::string>* log = nullptr;
+/// Where TableReader notes every key path it is asked for, with the default it would take
+/// ("" where it has no literal one), when set (keyDefaultsReadBy, scene_file.h).
+inline std::map<std::string, std::string>*& keyLog() {
+  static std::map<std::string, std::string>* log = nullptr;
   return log;
 }
 
@@ -78,7 +79,7 @@ class TableReader {
   int line() const { return t_ ? int(t_->source().begin.line) : 0; }
   const toml::node* node(const std::string& key) {
     used_.insert(key);
-    if (keyLog()) keyLog()->insert(path(key));
+    if (keyLog()) keyLog()->emplace(path(key), "");
     const toml::node* n = t_ ? t_->get(key) : nullptr;
     r_.noteLine(path(key), n);
     return n;
@@ -89,6 +90,7 @@ class TableReader {
   Real number(const std::string& key, Real def, Real lo, Real hi, const std::string& unit = "",
               bool loOpen = false, bool required = false) {
     const toml::node* n = node(key);
+    logDefault(key, required ? "" : fmt::format("{:g}", def));
     if (!n) {
       if (required) r_.problemAt(line(), path(key), fmt::format("missing; a number in {}", rangeText(lo, hi, loOpen, unit)));
       return def;
@@ -118,6 +120,11 @@ class TableReader {
   std::vector<Real> numbers(const std::string& key, size_t count, std::vector<Real> def, Real lo, Real hi,
                             const std::string& unit = "", bool required = false) {
     const toml::node* n = node(key);
+    if (!required) {
+      std::string d;
+      for (Real v : def) d += (d.empty() ? "" : ", ") + fmt::format("{:g}", v);
+      logDefault(key, def.empty() ? "" : "[" + d + "]");
+    }
     const std::string what = count == 0 ? "an array of numbers" : fmt::format("an array of {} numbers", count);
     if (!n) {
       if (required) r_.problemAt(line(), path(key), fmt::format("missing; {} in {}", what, rangeText(lo, hi, false, unit)));
@@ -148,6 +155,7 @@ class TableReader {
 
   bool boolean(const std::string& key, bool def) {
     const toml::node* n = node(key);
+    logDefault(key, def ? "true" : "false");
     if (!n) return def;
     if (!n->is_boolean()) {
       r_.problem(n, path(key), "expected true or false");
@@ -159,6 +167,7 @@ class TableReader {
   std::string text(const std::string& key, const std::string& def, const std::vector<std::string>& allowed = {},
                    bool required = false) {
     const toml::node* n = node(key);
+    logDefault(key, required || def.empty() ? "" : "\"" + def + "\"");
     std::string choices;
     for (const auto& a : allowed) choices += (choices.empty() ? "" : ", ") + ("\"" + a + "\"");
     if (!n) {
@@ -210,6 +219,9 @@ class TableReader {
   }
 
  private:
+  void logDefault(const std::string& key, const std::string& def) {
+    if (keyLog()) (*keyLog())[path(key)] = def;
+  }
   Reader& r_;
   const toml::table* t_;
   std::string prefix_;

@@ -122,11 +122,12 @@ Simulation::Simulation(const Scene& scene)
   const bool implicit = st.pressure == PressureSolverChoice::DFSPH;
   const WallCalibration wall0 = implicit ? calibrateImplicitWall(kernels_, st.particleSpacing, wallSpacing) : WallCalibration{};
   wallOffset_ = implicit ? wall0.offset : wallSampleOffset(kernels_, st.particleSpacing, wallSpacing);
-  std::vector<Vec3> wall = sampleSolidSurfaces(scene_.solids, wallSpacing, wallOffset_);
+  const PeriodicDomain periodic = scene_.periodic();
+  std::vector<Vec3> wall = sampleSolidSurfaces(scene_.solids, wallSpacing, wallOffset_, periodic);
   Vec3 lo = scene_.domainMin;
   for (const Vec3& p : wall) lo = cwiseMin(lo, p);
   gridOrigin_ = lo - Vec3(kernels_.h, kernels_.h, kernels_.h);
-  boundary_ = makeBoundarySamples(std::move(wall), kernels_, gridOrigin_, wall0.volumeScale);
+  boundary_ = makeBoundarySamples(std::move(wall), kernels_, gridOrigin_, wall0.volumeScale, periodic);
   if (boundary_.size() > 0) boundaryGrid_.build(boundary_.position.data(), boundary_.size(), gridOrigin_, kernels_.h);
 
   AttributeMask attributes = 0;
@@ -228,7 +229,7 @@ void Simulation::seedFluid() {
     CellGrid g;
     g.build(cx.data(), cx.size(), gridOrigin_, kernels_.h);
     NeighborLists nl;
-    g.findNeighbors(boundaryGrid_, 0.45 * s, false, nl);
+    g.findNeighbors(boundaryGrid_, 0.45 * s, false, nl, scene_.periodic());
     for (size_t i = 0; i < cx.size(); ++i) keep[i] = nl.count(i) == 0;
   }
   ps_.reserve(candidates.size());
@@ -243,7 +244,8 @@ void Simulation::seedFluid() {
 StepContext Simulation::context() const {
   return {kernels_,    fluidNeighbors_, boundaryNeighbors_,
           boundary_,   time_,           &fluidGrid_,
-          boundary_.size() > 0 ? &boundaryGrid_ : nullptr, gridOrigin_, scene_.solver.particleSpacing};
+          boundary_.size() > 0 ? &boundaryGrid_ : nullptr, gridOrigin_, scene_.solver.particleSpacing,
+          scene_.periodic()};
 }
 
 void Simulation::refresh() { searchAndDensity(); }
@@ -252,9 +254,10 @@ void Simulation::searchAndDensity() {
   const auto t0 = Clock::now();
   const size_t n = ps_.size();
   fluidGrid_.build(ps_.position.data(), n, gridOrigin_, kernels_.h);
-  fluidGrid_.findNeighbors(fluidGrid_, kernels_.h, true, fluidNeighbors_);
+  const PeriodicDomain periodic = scene_.periodic();
+  fluidGrid_.findNeighbors(fluidGrid_, kernels_.h, true, fluidNeighbors_, periodic);
   if (boundary_.size() > 0) {
-    fluidGrid_.findNeighbors(boundaryGrid_, kernels_.h, false, boundaryNeighbors_);
+    fluidGrid_.findNeighbors(boundaryGrid_, kernels_.h, false, boundaryNeighbors_, periodic);
   } else {
     boundaryNeighbors_.offsets.assign(n + 1, 0);
     boundaryNeighbors_.indices.clear();
@@ -273,7 +276,7 @@ void Simulation::searchAndDensity() {
       Vec3 moment;        // sum_j V0_j (x_j - x_i) W_ij
       for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
         const uint32_t j = fluidNeighbors_.indices[k];
-        const Vec3 rji = ps_.position[j] - xi;
+        const Vec3 rji = periodic.separation(ps_.position[j], xi);
         const Real w = K.densityChecked(lengthSquared(rji));
         fluidSum += numberDensity ? w : ps_.mass[j] * w;
         if (complete) {
@@ -285,7 +288,7 @@ void Simulation::searchAndDensity() {
       Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
       for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
         const uint32_t b = boundaryNeighbors_.indices[k];
-        const Vec3 rbi = boundary_.position[b] - xi;
+        const Vec3 rbi = periodic.separation(boundary_.position[b], xi);
         const Real vw = boundary_.volume[b] * K.densityChecked(lengthSquared(rbi));
         wallSum += vw;
         if (complete) moment += rbi * vw;
@@ -367,11 +370,12 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
   const auto t0 = Clock::now();
   std::vector<uint64_t> clampsPerBlock((ps_.size() + kGrain - 1) / kGrain, 0);
   const Real onWallTolerance = 0.1 * scene_.solver.particleSpacing;
+  const PeriodicDomain periodic = scene_.periodic();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     uint64_t clamps = 0;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Vec3 v = ps_.velocity[i];
-      Vec3 x = x0[i] + v * dt;
+      Vec3 x = periodic.wrap(x0[i] + v * dt);
       // A container is never crossed: a particle that was inside (or on the wall, within
       // rounding) and would end outside is put back on the wall. Matters for splashes whose
       // density stays below rest density (no pressure, so no wall force) and violent steps.
@@ -461,7 +465,7 @@ void Simulation::removeOutOfDomain() {
   for (size_t i = 0; i < n; ++i) {
     const Vec3& x = ps_.position[i];
     for (int a = 0; a < 3; ++a)
-      if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) out[i] = 1;
+      if (!(scene_.periodicAxes >> a & 1) && (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a])) out[i] = 1;
     any |= out[i] != 0;
     if (out[i]) ++leftDomain_[ps_.phase[i]];
   }
@@ -498,7 +502,7 @@ void Simulation::editParticles() {
     }
     const Vec3& x = ps_.position[i];
     for (int a = 0; a < 3; ++a)
-      if (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a]) edits.remove[i] = 1;
+      if (!(scene_.periodicAxes >> a & 1) && (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a])) edits.remove[i] = 1;
     if (edits.remove[i]) ++outside, ++leftDomain_[ps_.phase[i]];
   }
   if (byEffects + outside > 0) ps_.removeFlagged(edits.remove);

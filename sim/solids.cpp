@@ -11,21 +11,24 @@ namespace {
 
 int divisions(Real length, Real spacing) { return std::max(1, int(std::lround(length / spacing))); }
 
-void sampleBox(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) {
+void sampleBox(const SolidSpec& s, Real spacing, const PeriodicDomain& periodic, std::vector<Vec3>& out) {
   const Vec3 ext = s.max - s.min;
   const int n[3] = {divisions(ext.x, spacing), divisions(ext.y, spacing), divisions(ext.z, spacing)};
   auto coord = [&](int axis, int i) { return s.min[axis] + ext[axis] * Real(i) / n[axis]; };
+  // On a periodic axis index n is index 0's image, and neither end is a face.
+  const int last[3] = {n[0] - periodic.wraps(0), n[1] - periodic.wraps(1), n[2] - periodic.wraps(2)};
+  const auto onFace = [&](int axis, int i) { return !periodic.wraps(axis) && (i == 0 || i == n[axis]); };
   // Every lattice point with at least one coordinate on a face, minus the top face if open.
-  for (int k = 0; k <= n[2]; ++k)
-    for (int j = 0; j <= n[1]; ++j) {
-      const bool onZ = k == 0 || k == n[2], onY = j == 0 || j == n[1];
-      for (int i = 0; i <= n[0]; ++i) {
-        const bool onX = i == 0 || i == n[0];
+  for (int k = 0; k <= last[2]; ++k)
+    for (int j = 0; j <= last[1]; ++j) {
+      const bool onZ = onFace(2, k), onY = onFace(1, j);
+      for (int i = 0; i <= last[0]; ++i) {
+        const bool onX = onFace(0, i);
         if (!(onX || onY || onZ)) {
-          i = n[0] - 1;  // skip the interior of this row
+          if (!periodic.wraps(0)) i = n[0] - 1;  // skip the interior of this row
           continue;
         }
-        if (s.openTop && j == n[1]) continue;
+        if (s.openTop && !periodic.wraps(1) && j == n[1]) continue;
         out.push_back({coord(0, i), coord(1, j), coord(2, k)});
       }
     }
@@ -73,29 +76,41 @@ void sampleRevolution(const SolidSpec& s, Real spacing, std::vector<Vec3>& out) 
 
 }  // namespace
 
-std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset) {
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset,
+                                      const PeriodicDomain& periodic) {
   std::vector<Vec3> out;
   const Vec3 d(offset, offset, offset);
   for (SolidSpec s : solids) {
     // The sampled surface is the container's surface pushed outward by `offset`.
     s.min -= d;
     s.max += d;
+    for (int a = 0; a < 3; ++a)
+      if (periodic.wraps(a) && s.shape == SolidSpec::Shape::Box) {
+        s.min[a] = periodic.lo[a];
+        s.max[a] = periodic.lo[a] + periodic.length[a];
+      }
     s.radius += offset;
     s.base.y -= offset;
     s.height += 2 * offset;
     for (auto& pt : s.profile) pt.second += offset;
     if (!s.profile.empty()) s.profile.back().first += 2 * offset;
     switch (s.shape) {
-      case SolidSpec::Shape::Box: sampleBox(s, spacing, out); break;
+      case SolidSpec::Shape::Box: sampleBox(s, spacing, periodic, out); break;
       case SolidSpec::Shape::Cylinder: sampleCylinder(s, spacing, out); break;
       case SolidSpec::Shape::Revolution: sampleRevolution(s, spacing, out); break;
     }
   }
+  if (periodic.any())
+    out.erase(std::remove_if(out.begin(), out.end(), [&](const Vec3& p) {
+                for (int a = 0; a < 3; ++a)
+                  if (periodic.wraps(a) && !(p[a] >= periodic.lo[a] && p[a] < periodic.lo[a] + periodic.length[a])) return true;
+                return false;
+              }), out.end());
   return out;
 }
 
 BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
-                                    const Vec3& gridOrigin, Real volumeScale) {
+                                    const Vec3& gridOrigin, Real volumeScale, const PeriodicDomain& periodic) {
   BoundarySamples b;
   b.position = std::move(positions);
   b.volume.assign(b.size(), 0);
@@ -103,11 +118,11 @@ BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernel
   CellGrid grid;
   grid.build(b.position.data(), b.size(), gridOrigin, kernels.h);
   NeighborLists nl;
-  grid.findNeighbors(grid, kernels.h, false, nl);
+  grid.findNeighbors(grid, kernels.h, false, nl, periodic);
   tbb::parallel_for(size_t(0), b.size(), [&](size_t i) {
     Real sum = 0;
     for (uint64_t k = nl.begin(i); k < nl.end(i); ++k)
-      sum += kernels.densityChecked(lengthSquared(b.position[i] - b.position[nl.indices[k]]));
+      sum += kernels.densityChecked(lengthSquared(periodic.separation(b.position[i], b.position[nl.indices[k]])));
     b.volume[i] = volumeScale / sum;  // sum includes the sample itself, so it is > 0
   });
   return b;

@@ -11,8 +11,11 @@
 namespace mf {
 
 /// Boundary samples of every solid in the scene, spacing ~ `spacing`, placed `offset` outside
-/// each container's surface (see wallSampleOffset).
-std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset);
+/// each container's surface (see wallSampleOffset). On a periodic axis a box spans the period,
+/// its faces across that axis are left out and its lattice tiles (n samples per period, the
+/// last one the first's image); other solids' samples outside the period are dropped.
+std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real spacing, Real offset,
+                                      const PeriodicDomain& periodic = {});
 
 /// How far outside a container's surface its single layer of samples must sit so that fluid
 /// on the seeding lattice (first layer half a spacing from the surface) is at rest density.
@@ -40,7 +43,8 @@ WallCalibration calibrateImplicitWall(const SphKernels& kernels, Real particleSp
 
 /// Akinci volumes Vb = 1 / sum_k W(x_b - x_k) over boundary samples within h.
 BoundarySamples makeBoundarySamples(std::vector<Vec3> positions, const SphKernels& kernels,
-                                    const Vec3& gridOrigin, Real volumeScale = 1);
+                                    const Vec3& gridOrigin, Real volumeScale = 1,
+                                    const PeriodicDomain& periodic = {});
 
 /// True if p lies in the fluid region of the solid (inside a container), grown by `margin`.
 bool insideFluidRegion(const SolidSpec& solid, const Vec3& p, Real margin = 0);

@@ -11,6 +11,7 @@
 #include "attribute_grid.h"
 #include "mesh_io.h"
 #include "particle_surface.h"
+#include "periodic_images.h"
 #include "sim/file_util.h"
 #include "sim/particle_io.h"
 #include "point_cloud.h"
@@ -59,7 +60,18 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
         if (s.velocity)
           velocities.emplace_back(float(particles.velocity[i].x), float(particles.velocity[i].y), float(particles.velocity[i].z));
       }
+    // Periodic faces: images as far as the kernel and the filter reach (then cut flat there).
+    const PeriodicDomain periodic = scene.periodic();
+    std::vector<openvdb::Vec3d> images;
+    const std::vector<uint32_t> imageSource = periodicImages(
+        positions, periodic, spacing * (s.searchRatio + s.voxelRatio * (s.filterRadius * s.filterIterations + 3)), images);
+    positions.insert(positions.end(), images.begin(), images.end());
+    if (!velocities.empty()) {
+      velocities.reserve(positions.size());
+      for (uint32_t k : imageSource) velocities.push_back(velocities[k]);
+    }
     ParticleSurface surface = particlesToSurface(positions, velocities, spacing, s);
+    cutAtPeriodicFaces(*surface.levelSet, periodic);
     if (s.clipToSolids) clipToSolids(*surface.levelSet, scene.solids, s.searchRatio * spacing);
     surface.levelSet->setName(name);
     surface.levelSet->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));
@@ -82,6 +94,8 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
       std::vector<float> values;
       for (size_t i = 0; i < particles.size(); ++i)
         if (particles.phase[i] == p) values.push_back(found->second[i]);
+      values.reserve(values.size() + imageSource.size());
+      for (uint32_t k : imageSource) values.push_back(values[k]);
       auto grid = attributeGrid(positions, values, 2 * spacing, surface.levelSet->transform());
       grid->setName(attr + "_" + name);
       grid->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));

@@ -1,7 +1,10 @@
 // docs/scene_reference.md cannot go stale: every key the parser asks for, while reading every
 // shipped scene and snippets that take its other branches (shapes, subtractions, camera keys,
-// ramps), and every effect's declared keys, must appear in the reference's row for its table.
+// ramps), and every effect's declared keys, must appear in the reference's row for its table,
+// and every literal default the reference gives must be the one the parser takes.
 #include <gtest/gtest.h>
+
+#include <fmt/format.h>
 
 #include <fstream>
 #include <map>
@@ -12,6 +15,8 @@
 #include "sim/scene_file.h"
 
 namespace {
+
+using mf::Real;
 
 // Branches the shipped scenes do not take, each a scene of its own (parsed with overrides).
 const char* kBase = R"([scene]
@@ -108,6 +113,33 @@ std::map<std::string, std::string> referenceRows(const std::string& text) {
   return rows;
 }
 
+/// Every default the parser took for (table, key), over all the scenes read.
+using Defaults = std::map<std::pair<std::string, std::string>, std::set<std::string>>;
+
+/// The literal at the start of a reference default, "(0.4)", "(`\"wcsph\"`)", "(true)",
+/// "([0, -9.81, 0] m/s)", "(0 kg/m: none)", as the parser writes it; "" for words ("(all)").
+std::string literalDefault(std::string d) {
+  d = std::regex_replace(d, std::regex("`"), "");
+  d = std::regex_replace(d, std::regex("\u2212"), "-");  // the reference's minus sign
+  std::smatch m;
+  if (std::regex_search(d, m, std::regex(R"(^"[^"]*"$)"))) return m.str();  // one string, not a list of choices
+  if (std::regex_search(d, m, std::regex(R"(^(true|false)\b)"))) return m.str();
+  // Units ("(1/s)"), a count per entry ("(1 each)") and empty lists of names are no literal.
+  if (std::regex_search(d, std::regex(R"(^[0-9.]+ ?/|^[0-9.]+ each|^\[\])"))) return "";
+  if (std::regex_search(d, m, std::regex(R"(^\[([-0-9.e, ]*)\])"))) {
+    std::string out;
+    std::string list = m[1].str();
+    const std::regex number(R"(-?[0-9.]+(e-?[0-9]+)?)");
+    std::sregex_iterator it(list.begin(), list.end(), number), end;
+    for (; it != end; ++it) out += (out.empty() ? "" : ", ") + fmt::format("{:g}", std::stod(it->str()));
+    return "[" + out + "]";
+  }
+  // A number, unless it starts a range ("1-4"): the reference gives ranges in parentheses too.
+  if (std::regex_search(d, m, std::regex(R"(^-?[0-9.]+(e-?[0-9]+)?\s*)")) && d.compare(size_t(m.length()), 3, "\u2013") != 0)
+    return fmt::format("{:g}", std::stod(m.str()));
+  return "";
+}
+
 bool mentions(const std::string& row, const std::string& key) {
   return std::regex_search(row, std::regex("(^|[^a-z_])" + key + "([^a-z_]|$)"));
 }
@@ -122,10 +154,26 @@ TEST(SceneReference, EveryKeyTheParserReadsIsInTheReference) {
   const auto rows = referenceRows(text.str());
   std::set<std::string> paths;
   for (const std::string& name : mf::embeddedSceneNames())
-    for (const auto& p : mf::keysReadBy([&] { mf::loadScene(name); })) paths.insert(p);
-  for (const auto& p : mf::keysReadBy([&] { mf::parseScene(kBase, "ref.toml"); })) paths.insert(p);
+    for (const auto& p : mf::keyDefaultsReadBy([&] { mf::loadScene(name); })) paths.insert(p.first);
+  for (const auto& p : mf::keyDefaultsReadBy([&] { mf::parseScene(kBase, "ref.toml"); })) paths.insert(p.first);
   std::vector<std::string> missing;
   size_t checked = 0;
+  Defaults defaults;
+  auto noteDefaults = [&](const std::map<std::string, std::string>& read) {
+    for (const auto& [path, def] : read) defaults[tableAndKey(path)].insert(def);
+  };
+  for (const std::string& name : mf::embeddedSceneNames()) noteDefaults(mf::keyDefaultsReadBy([&] { mf::loadScene(name); }));
+  noteDefaults(mf::keyDefaultsReadBy([&] { mf::parseScene(kBase, "ref.toml"); }));
+  for (const mf::EffectInfo& info : mf::effectRegistry()) {
+    auto note = [&](const std::string& table, const mf::EffectParam& p) {
+      std::string d;
+      for (Real v : p.defaults) d += (d.empty() ? "" : ", ") + fmt::format("{:g}", v);
+      defaults[{table, p.key}].insert(p.defaults.empty() || p.phaseNames > 0 ? "" : p.components == 3 ? "[" + d + "]" : d);
+    };
+    for (const auto& p : info.params) note("effects." + info.name, p);
+    for (const auto& l : info.lists)
+      for (const auto& p : l.params) note("effects." + info.name, p);
+  }
   for (const std::string& path : paths) {
     const auto [table, key] = tableAndKey(path);
     // The tables themselves, and the names of effects and materials (tables, not keys).
@@ -153,4 +201,36 @@ TEST(SceneReference, EveryKeyTheParserReadsIsInTheReference) {
   for (const auto& m : missing) list += "\n  " + m;
   EXPECT_TRUE(missing.empty()) << missing.size() << " of " << checked << " keys are not in docs/scene_reference.md:" << list;
   EXPECT_GT(checked, 150u);
+
+  // Defaults: each "`key` (literal ...)" in a row's key column against what the parser takes.
+  std::vector<std::string> wrong;
+  size_t compared = 0;
+  for (const auto& [table, text] : rows) {
+    std::istringstream lines(text);
+    std::string line;
+    while (std::getline(lines, line)) {
+      const size_t a = line.find('|'), b = line.find('|', a + 1);
+      if (a == std::string::npos || b == std::string::npos) continue;
+      const std::string keys = line.substr(a + 1, b - a - 1);
+      static const std::regex keyDefault(R"(`([a-z_]+)` \(([^)]*)\))");
+      std::sregex_iterator it(keys.begin(), keys.end(), keyDefault), end;
+      for (; it != end; ++it) {
+        const std::string key = (*it)[1], doc = literalDefault((*it)[2]);
+        if (doc.empty()) continue;
+        const auto found = defaults.find({table, key});
+        if (found == defaults.end()) continue;  // a list's key named in its effect's row, or a shape's
+        ++compared;
+        if (!found->second.count(doc)) {
+          std::string parser;
+          for (const auto& d : found->second) parser += (parser.empty() ? "" : " | ") + (d.empty() ? "(none)" : d);
+          wrong.push_back(table + "." + key + ": the reference says " + doc + ", the parser takes " + parser);
+        }
+      }
+    }
+  }
+  std::string wrongList;
+  for (const auto& w : wrong) wrongList += "\n  " + w;
+  std::printf("  %zu keys found in the reference, %zu literal defaults compared with the parser's\n", checked, compared);
+  EXPECT_TRUE(wrong.empty()) << wrong.size() << " of " << compared << " defaults in docs/scene_reference.md are wrong:" << wrongList;
+  EXPECT_GT(compared, 100u);
 }

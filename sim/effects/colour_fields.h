@@ -55,7 +55,7 @@ inline void computeColourGradients(const StepContext& ctx, const ParticleSet& ps
       Vec3 gl, ga;
       for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
         const uint32_t j = nf.indices[k];
-        const Vec3 rij = xi - ps.position[j];
+        const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
         const Real r2 = lengthSquared(rij);
         if (r2 >= K.h2) continue;
         const Vec3 g = poly6Gradient(K, rij, r2) * colourVolume(ps, j);  // eq. 3
@@ -64,7 +64,7 @@ inline void computeColourGradients(const StepContext& ctx, const ParticleSet& ps
       }
       for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
         const uint32_t b = nb.indices[k];
-        const Vec3 rib = xi - ctx.boundary.position[b];
+        const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
         const Real r2 = lengthSquared(rib);
         if (r2 >= K.h2) continue;
         const Vec3 g = poly6Gradient(K, rib, r2) * ctx.boundary.volume[b];
@@ -108,17 +108,17 @@ struct OpenSurfaceRule {
     CellGrid grid;
     grid.build(at.data(), at.size(), ctx.gridOrigin, K.h);
     NeighborLists fluidNb, wallNb;
-    grid.findNeighbors(*ctx.fluidGrid, K.h, false, fluidNb);
-    if (ctx.boundaryGrid) grid.findNeighbors(*ctx.boundaryGrid, K.h, false, wallNb);
+    grid.findNeighbors(*ctx.fluidGrid, K.h, false, fluidNb, ctx.periodic);
+    if (ctx.boundaryGrid) grid.findNeighbors(*ctx.boundaryGrid, K.h, false, wallNb, ctx.periodic);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, flagged.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t c = r.begin(); c != r.end(); ++c) {
         Real fill = 0;
         for (uint64_t k = fluidNb.begin(c), e = fluidNb.end(c); k < e; ++k)
-          fill += colourVolume(ps, fluidNb.indices[k]) * K.poly6Checked(lengthSquared(at[c] - ps.position[fluidNb.indices[k]]));
+          fill += colourVolume(ps, fluidNb.indices[k]) * K.poly6Checked(lengthSquared(ctx.periodic.separation(at[c], ps.position[fluidNb.indices[k]])));
         if (ctx.boundaryGrid)
           for (uint64_t k = wallNb.begin(c), e = wallNb.end(c); k < e; ++k)
             fill += ctx.boundary.volume[wallNb.indices[k]] *
-                    K.poly6Checked(lengthSquared(at[c] - ctx.boundary.position[wallNb.indices[k]]));
+                    K.poly6Checked(lengthSquared(ctx.periodic.separation(at[c], ctx.boundary.position[wallNb.indices[k]])));
         if (fill >= 0.25) flags[flagged[c]] = 0;
       }
     });

@@ -69,7 +69,7 @@ class Diffusion final : public Effect {
               const Real aj = diffusivity_[ps.phase[j]];
               const Real aij = ai == aj ? ai : (ai + aj > 0 ? 2 * ai * aj / (ai + aj) : 0);
               if (aij == 0) continue;
-              const Real c = ps.volume[j] * aij * norm_ * K.viscosityLaplacian(length(xi - ps.position[j]));
+              const Real c = ps.volume[j] * aij * norm_ * K.viscosityLaplacian(length(ctx.periodic.separation(xi, ps.position[j])));
               sum += c * (A[j] - Ai);
               row += c;
             }

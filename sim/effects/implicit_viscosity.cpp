@@ -45,7 +45,7 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
         uint64_t w = rowStart_[i];
         for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k, ++w) {
           const uint32_t j = ctx.fluidNeighbors.indices[k];
-          const Real rl = std::sqrt(lengthSquared(xi - ps.position[j]));
+          const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ps.position[j])));
           weight_[w] = ps.volume[i] * ps.volume[j] * 0.5 * (ps.viscosity[i] + ps.viscosity[j]) * K.viscosityLaplacian(rl);
           sum += weight_[w];
         }
@@ -53,7 +53,7 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
           const Real scale = wallFriction * ps.viscosity[i] * ps.restDensity[i] / ps.density[i];
           for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
             const uint32_t b = ctx.boundaryNeighbors.indices[k];
-            const Real rl = std::sqrt(lengthSquared(xi - ctx.boundary.position[b]));
+            const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ctx.boundary.position[b])));
             sum += ps.volume[i] * ctx.boundary.volume[b] * scale * K.viscosityLaplacian(rl);
           }
         }

@@ -265,7 +265,7 @@ class PhaseChange final : public Effect {
     Real wall = 0;
     for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
       const uint32_t b = ctx.boundaryNeighbors.indices[k];
-      wall += ctx.boundary.volume[b] * ctx.kernels.densityChecked(lengthSquared(ctx.boundary.position[b] - ps.position[i]));
+      wall += ctx.boundary.volume[b] * ctx.kernels.densityChecked(lengthSquared(ctx.periodic.separation(ctx.boundary.position[b], ps.position[i])));
     }
     // rho0 >= kReach (m W(0) + rho0 wall)
     const Real free = 1 - kReach * wall;

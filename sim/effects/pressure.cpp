@@ -93,7 +93,7 @@ class Pressure final : public Effect {
         Vec3 sum;
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
-          const Vec3 rij = xi - x[j];
+          const Vec3 rij = ctx.periodic.separation(xi, x[j]);
           const Vec3 grad = K.pressureGrad(rij, lengthSquared(rij));
           // (L_i + L_j)/2 keeps the pair term antisymmetric.
           const Vec3 g = L ? (L[i] * grad + L[j] * grad) * 0.5 : grad;
@@ -104,7 +104,7 @@ class Pressure final : public Effect {
           Vec3 wall;
           for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
             const uint32_t b = nb.indices[k];
-            const Vec3 rib = xi - ctx.boundary.position[b];
+            const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
             wall += K.pressureGrad(rib, lengthSquared(rib)) * (ctx.boundary.volume[b] * mirror);
           }
           sum += L ? L[i] * wall : wall;
@@ -132,14 +132,14 @@ class Pressure final : public Effect {
         const NeighborLists& nf = ctx.fluidNeighbors;
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
-          const Vec3 rij = xi - ps.position[j];
+          const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
           A.addOuter(-rij, K.pressureGrad(rij, lengthSquared(rij)), ps.volume[j]);
         }
         const NeighborLists& nb = ctx.boundaryNeighbors;
         const Real wallVolume = ps.restDensity[i] / ps.density[i];
         for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
           const uint32_t b = nb.indices[k];
-          const Vec3 rib = xi - ctx.boundary.position[b];
+          const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
           A.addOuter(-rib, K.pressureGrad(rib, lengthSquared(rib)), wallVolume * ctx.boundary.volume[b]);
         }
         const Real d = A.det();

@@ -81,7 +81,7 @@ void applyTensionForce(const StepContext& ctx, ParticleSet& ps, const std::vecto
         const uint32_t j = nf.indices[k];
         const Real nj2 = lengthSquared(normal[j]);
         if (nj2 <= minNormal2) continue;
-        const Vec3 rij = xi - ps.position[j];
+        const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
         const Real r2 = lengthSquared(rij);
         if (r2 >= K.h2) continue;
         const Vec3 g = D.grad(rij, r2) * ps.volume[j];
@@ -122,7 +122,7 @@ class InterfaceTension final : public Effect {
           const uint32_t j = nf.indices[k];
           const Real dc = ps.interfaceColour[j] - ci;
           if (dc == 0) continue;  // like neighbours contribute nothing in difference form
-          const Vec3 rij = xi - ps.position[j];
+          const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
           const Real r2 = lengthSquared(rij);
           if (r2 >= K.h2) continue;
           const Real Vdc = ps.volume[j] * dc;
@@ -177,7 +177,7 @@ class InterfaceTension final : public Effect {
           const uint32_t j = nf.indices[k];
           const Sym& Sj = stress_[j];
           if (!activeI && Sj.zero()) continue;
-          const Vec3 rij = xi - ps.position[j];
+          const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
           const Real r2 = lengthSquared(rij);
           if (r2 >= K.h2) continue;
           // poly6's gradient vanishes at r -> 0, so the tangential tension has no grip on a
@@ -252,7 +252,7 @@ class SurfaceTension final : public Effect {
         Real lap = ps.volume[i] * ci * lapSelf - ci * lapResidual_;
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
-          const Vec3 rij = xi - ps.position[j];
+          const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
           const Real r2 = lengthSquared(rij);
           if (r2 >= K.h2) continue;
           const Real Vc = ps.volume[j] * ps.surfaceColour[j];
@@ -262,7 +262,7 @@ class SurfaceTension final : public Effect {
         if (wallColour_ != 0)
           for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
             const uint32_t b = nb.indices[k];
-            const Vec3 rib = xi - ctx.boundary.position[b];
+            const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
             const Real r2 = lengthSquared(rib);
             if (r2 >= K.h2) continue;
             const Real Vc = ctx.boundary.volume[b] * wallColour_;

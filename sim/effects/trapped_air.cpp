@@ -145,8 +145,8 @@ class TrappedAir final : public Effect {
     CellGrid grid;
     grid.build(at.data(), at.size(), ctx.gridOrigin, h);
     NeighborLists fluidNb, wallNb;
-    grid.findNeighbors(*ctx.fluidGrid, h, false, fluidNb);
-    if (ctx.boundaryGrid) grid.findNeighbors(*ctx.boundaryGrid, h, false, wallNb);
+    grid.findNeighbors(*ctx.fluidGrid, h, false, fluidNb, ctx.periodic);
+    if (ctx.boundaryGrid) grid.findNeighbors(*ctx.boundaryGrid, h, false, wallNb, ctx.periodic);
     std::vector<uint8_t> accept(from.size(), 0);
     const Real airRestVolume = airMass_ / phases_[p_.air].restDensity;
     const Real gap2 = (p_.minGap * s) * (p_.minGap * s);
@@ -158,7 +158,7 @@ class TrappedAir final : public Effect {
         bool clear = true;
         for (uint64_t k = fluidNb.begin(c), e = fluidNb.end(c); k < e && clear; ++k) {
           const uint32_t j = fluidNb.indices[k];
-          const Vec3 r = x - ps.position[j];
+          const Vec3 r = ctx.periodic.separation(x, ps.position[j]);
           const Real r2 = lengthSquared(r);
           if (r2 >= K.h2) continue;
           if (r2 < gap2) clear = false;
@@ -170,7 +170,7 @@ class TrappedAir final : public Effect {
         if (ctx.boundaryGrid)
           for (uint64_t k = wallNb.begin(c), e = wallNb.end(c); k < e && clear; ++k) {
             const uint32_t b = wallNb.indices[k];
-            const Vec3 r = x - ctx.boundary.position[b];
+            const Vec3 r = ctx.periodic.separation(x, ctx.boundary.position[b]);
             const Real r2 = lengthSquared(r);
             if (r2 >= K.h2) continue;
             if (r2 < gap2) clear = false;
@@ -256,7 +256,7 @@ class Buoyancy final : public Effect {
         Real mass = ps.mass[i] * w0, volume = ps.volume[i] * w0;
         for (uint64_t q = nf.begin(i), e = nf.end(i); q < e; ++q) {
           const uint32_t j = nf.indices[q];
-          const Real w = K.poly6Checked(lengthSquared(xi - ps.position[j]));
+          const Real w = K.poly6Checked(lengthSquared(ctx.periodic.separation(xi, ps.position[j])));
           mass += ps.mass[j] * w;
           volume += ps.volume[j] * w;
         }

@@ -53,7 +53,7 @@ class Viscosity final : public Effect {
         const NeighborLists& nf = ctx.fluidNeighbors;
         for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
           const uint32_t j = nf.indices[k];
-          const Real rl = std::sqrt(lengthSquared(xi - x[j]));
+          const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, x[j])));
           sum += (v[j] - vi) * (V[j] * 0.5 * (mui + mu[j]) * K.viscosityLaplacian(rl));
         }
         if (wallFriction_ > 0) {
@@ -61,7 +61,7 @@ class Viscosity final : public Effect {
           const Real scale = wallFriction_ * mui * ps.restDensity[i] / ps.density[i];
           for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) {
             const uint32_t b = nb.indices[k];
-            const Real rl = std::sqrt(lengthSquared(xi - ctx.boundary.position[b]));
+            const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ctx.boundary.position[b])));
             sum -= vi * (ctx.boundary.volume[b] * scale * K.viscosityLaplacian(rl));
           }
         }

@@ -34,7 +34,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
       Real others = 0;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
         const uint32_t j = ctx.fluidNeighbors.indices[k];
-        const Vec3 rij = xi - ps.position[j];
+        const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
         const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
         const Real Vj = ps.mass[j] / ps.restDensity[j];
         fluidGrad_[k] = g * Vj;
@@ -43,7 +43,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
       }
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
-        const Vec3 rib = xi - ctx.boundary.position[b];
+        const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
         wallGrad_[k] = K.pressureGrad(rib, lengthSquared(rib)) * (settings_.wallFactor * ctx.boundary.volume[b]);
         gradB += wallGrad_[k];
       }
