@@ -35,6 +35,7 @@ struct PathTracer::Impl {
   Camera camera;
   Camera nextCamera;           // the next frame's (motion vectors)
   Real frameInterval = 0;      // s to the next frame; 0: no motion vectors
+  bool blur;                   // surfaces move over the shutter (render.shutter)
   SphereLight light;
   Sky sky;
   std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
@@ -43,8 +44,9 @@ struct PathTracer::Impl {
   std::vector<const VolumeField*> absorptionField, emissionField;
   std::vector<uint8_t> heterogeneous;
 
-  Impl(std::vector<Surface> surfaces_, const RenderSettings& s)
-      : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces), epsilon(geometry.epsilon()), camera(s), nextCamera(s),
+  Impl(std::vector<Surface> surfaces_, const RenderSettings& s, double frameInterval)
+      : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces, s.shutter * frameInterval),
+        epsilon(geometry.epsilon()), camera(s), nextCamera(s), blur(s.shutter > 0 && frameInterval > 0),
         light(s), sky(s) {
     for (const Surface& sf : surfaces) {
       materials.push_back(sf.material);
@@ -468,8 +470,8 @@ struct PathTracer::Impl {
   }
 };
 
-PathTracer::PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings)
-    : impl_(std::make_unique<Impl>(std::move(surfaces), settings)) {}
+PathTracer::PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings, double frameInterval)
+    : impl_(std::make_unique<Impl>(std::move(surfaces), settings, frameInterval)) {}
 
 PathTracer::~PathTracer() = default;
 
@@ -512,6 +514,9 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           Sampler smp(seed, uint32_t(k), !s.sobol);
           Real jx, jy;
           smp.get2D(0, jx, jy);
+          // The sample's moment in the shutter, shared by every ray of its path; a pair of its
+          // own, so frames without blur keep their bits.
+          if (im.blur) hit.time = shadow.time = float(smp.get1D(Sampler::kTimePair));
           const Vec3 d = im.camera.direction(x + jx, y + jy);
           PrimarySample first;
           Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow, aovs ? &first : nullptr);

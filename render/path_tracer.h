@@ -30,7 +30,8 @@ struct RenderStats {
 
 class PathTracer {
  public:
-  PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings);
+  /// `frameInterval`: the frame's duration, s, for motion blur (render.shutter of it; 0: none).
+  PathTracer(std::vector<Surface> surfaces, const RenderSettings& settings, double frameInterval = 0);
   ~PathTracer();
   PathTracer(const PathTracer&) = delete;
   PathTracer& operator=(const PathTracer&) = delete;

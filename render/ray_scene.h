@@ -21,6 +21,7 @@ struct Hit {
   int material = -1;  // also the geometry id
   unsigned prim = 0;  // the triangle (meshes)
   float u = 0, v = 0;  // barycentric coordinates on it (meshes)
+  float time = 0;      // where in the shutter the ray is cast, [0, 1) (set by the caller; 0 without blur)
   Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
 };
 
@@ -53,7 +54,9 @@ inline RTCRayHit makeRay(float ox, float oy, float oz, float dx, float dy, float
 class RayScene {
  public:
   /// Geometry id g is surfaces[g]. The ray offset is relative to the surfaces' bounding box.
-  explicit RayScene(const std::vector<Surface>& surfaces);
+  /// `shutterSeconds` > 0: surfaces with velocities move linearly over the shutter, from
+  /// x - v s/2 at ray time 0 to x + v s/2 at time 1 (Embree's motion blur, two time steps).
+  explicit RayScene(const std::vector<Surface>& surfaces, Real shutterSeconds = 0);
   ~RayScene();
   RayScene(const RayScene&) = delete;
   RayScene& operator=(const RayScene&) = delete;
@@ -82,6 +85,7 @@ class RayScene {
     }
     RTCRayHit rh = makeRay(float(o.x), float(o.y), float(o.z), float(d.x), float(d.y), float(d.z), tnear,
                            float(std::min(tfar, 1e30)));
+    rh.ray.time = hit.time;
     if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
     rtcIntersect1(scene_, &skip.context, &rh);
     ++rays;

@@ -131,7 +131,7 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   }
   result.anyFluid = !surfaces.empty();
   for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
-  PathTracer tracer(std::move(surfaces), atTime(scene.render, frame / scene.frameRate));
+  PathTracer tracer(std::move(surfaces), atTime(scene.render, frame / scene.frameRate), 1 / scene.frameRate);
   tracer.setNextFrame(atTime(scene.render, (frame + 1) / scene.frameRate), 1 / scene.frameRate);
   result.triangles = tracer.triangleCount();
   result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,6 +17,7 @@ namespace mf::render {
 class Sampler {
  public:
   static constexpr uint32_t kCameraPairs = 1;  // pair 0: the pixel position
+  static constexpr uint32_t kTimePair = 0xFFFF;  // the shutter time (motion blur), apart from the path's pairs
 
   /// `seed`: the pixel's (see pixelSeed); `index`: the sample within the pixel. `random`:
   /// independent hashed values instead (for comparison: render.sobol = false).

@@ -248,6 +248,7 @@ struct RenderSettings {
   int maxDepth = 16;                // bounces per path
   Real indirectClamp = 1;           // cap on light arriving after a diffuse bounce (0: none)
   Real regularise = 0;              // degrees: mirrors after a diffuse vertex blurred by this cone (0: off)
+  Real shutter = 0;                 // motion blur: the shutter's open time, a fraction of the frame interval, centred on the frame (0: off)
   bool sobol = true;                // Owen-scrambled Sobol samples (false: independent random ones)
   bool mis = true;                  // light samples and lobe samples weighted by the power heuristic
   bool animatedSeed = false;        // the frame in the sampler's seed (noise changes every frame)

@@ -200,6 +200,10 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.maxDepth = t.integer("max_depth", o.maxDepth, 1, 1000, "bounces");
   o.indirectClamp = t.number("indirect_clamp", o.indirectClamp, 0, 1e9, "(relative radiance; 0 = off)");
   o.regularise = t.number("regularise", o.regularise, 0, 45, "degrees (0 = off)");
+  o.shutter = t.number("shutter", o.shutter, 0, 1, "of the frame interval (0 = no motion blur)");
+  // The blur moves each surface by the velocity grid that surfacing writes.
+  if (o.shutter > 0 && !sc.surfacing.velocity)
+    r.problem(t.node("shutter"), "render.shutter", "motion blur needs the velocity grids: set surfacing.velocity = true");
   o.sobol = t.boolean("sobol", o.sobol);
   o.mis = t.boolean("mis", o.mis);
   o.animatedSeed = t.boolean("animated_seed", o.animatedSeed);
