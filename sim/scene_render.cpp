@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blackbody.h"
 #include "scene_reader.h"
 
 namespace mf::scene_reading {
@@ -103,7 +104,9 @@ MaterialSpec defaultSolidMaterial() {
   return m;
 }
 
-/// `key` = { attribute = "temperature" | "dye", range = [lo, hi], colours = [[r, g, b], ...] }.
+/// `key` = { attribute = "temperature" | "dye", range = [lo, hi], colours = [[r, g, b], ...] },
+/// or for an emission ramp over temperature `blackbody = Y` in place of the colours: a
+/// blackbody's colour and brightness at each temperature (deg C), luminance Y at the range's top.
 void readRamp(TableReader& t, const std::string& key, ColourRamp& ramp, Real maxValue, const std::string& unit) {
   const toml::table* rt = t.table(key);
   if (!rt) return;
@@ -112,6 +115,30 @@ void readRamp(TableReader& t, const std::string& key, ColourRamp& ramp, Real max
   const std::vector<Real> range = e.numbers("range", 2, {0, 1}, -1e6, 1e6, "(the attribute's unit)", true);
   ramp.lo = range[0], ramp.hi = range[1];
   if (!(ramp.lo < ramp.hi)) t.reader().problem(e.node("range"), e.path("range"), "expected [lo, hi] with lo < hi");
+  if (key == "emission_ramp" && e.has("blackbody")) {
+    const Real top = e.number("blackbody", 0, 0, maxValue, unit + " (luminance at the range's top)", true);
+    if (ramp.attribute != "temperature") {
+      t.reader().problem(e.node("blackbody"), e.path("blackbody"), "a blackbody ramp reads attribute = \"temperature\"");
+      ramp.attribute.clear();
+      return;
+    }
+    if (e.has("colours")) {
+      t.reader().problem(e.node("colours"), e.path("colours"), "give colours or blackbody, not both");
+      ramp.attribute.clear();
+      return;
+    }
+    if (ramp.lo <= -273.15) {
+      t.reader().problem(e.node("range"), e.path("range"), "a blackbody ramp's range must lie above -273.15 deg C");
+      ramp.attribute.clear();
+      return;
+    }
+    // 64 samples, piecewise linear between them: over 700-1600 deg C the visible radiance
+    // changes by at most 1.47x from one sample to the next (Wien's approximation at 560 nm).
+    const Real scale = top / blackbodyXyz(ramp.hi + 273.15).y;
+    for (int k = 0; k < 64; ++k)
+      ramp.colours.push_back(xyzToLinearSrgb(blackbodyXyz(ramp.lo + (ramp.hi - ramp.lo) * k / 63 + 273.15)) * scale);
+    return;
+  }
   const toml::node* cn = e.node("colours");
   const toml::array* ca = cn ? cn->as_array() : nullptr;
   if (!ca || ca->size() < 2) {

@@ -9,6 +9,7 @@
 
 #include "render/path_tracer.h"
 #include "render/volume_field.h"
+#include "sim/blackbody.h"
 #include "sim/scene_file.h"
 #include "surfacing/attribute_grid.h"
 
@@ -159,6 +160,57 @@ TEST(ColourRamps, SceneKeysAreCheckedWithTheirKey) {
   EXPECT_NE(badRange.find("absorption_ramp.range"), std::string::npos) << badRange;
   const std::string badAttr = problems({"surfacing.attributes=[\"pressure\"]"});
   EXPECT_NE(badAttr.find("surfacing.attributes"), std::string::npos) << badAttr;
+}
+
+// Blackbody colours (sim/blackbody.h) against the Planckian locus's CIE 1931 chromaticities
+// (Wyszecki & Stiles, table 1(3.3.4)). The multi-lobe fit of the matching functions is weak
+// beyond 650 nm (x-bar / y-bar at 700 nm: 1.3 against the table's 2.8), which pulls cool
+// blackbodies towards yellow: measured 0.011 at 1 000 K, 0.004 at 1 500 K, 0.0025 at 2 000 K,
+// at most 0.0012 from 2 856 K up. The tolerances are those, rounded up; a wrong Planck law or
+// colour matrix moves these points by 0.05 or more.
+TEST(Blackbody, ChromaticitiesLieOnThePlanckianLocus) {
+  const struct {
+    double kelvin, x, y, tolerance;
+  } locus[] = {{1000, 0.6528, 0.3444, 0.012}, {1500, 0.5857, 0.3931, 0.005}, {2000, 0.5267, 0.4133, 0.003},
+               {2856, 0.4476, 0.4074, 0.002}, {4000, 0.3805, 0.3768, 0.002}, {6500, 0.3135, 0.3236, 0.002}};
+  for (const auto& p : locus) {
+    const Vec3 c = blackbodyXyz(p.kelvin);
+    const double sum = c.x + c.y + c.z;
+    EXPECT_NEAR(c.x / sum, p.x, p.tolerance) << p.kelvin << " K";
+    EXPECT_NEAR(c.y / sum, p.y, p.tolerance) << p.kelvin << " K";
+  }
+  // Wien: at 560 nm the luminance rises as exp(-hc / (lambda k T)): from 1 000 to 1 100 K by
+  // about exp(25 700 (1/1000 - 1/1100)) = 10.3 (the whole spectrum's weight shifts it a little).
+  const double ratio = blackbodyXyz(1100).y / blackbodyXyz(1000).y;
+  EXPECT_GT(ratio, 8.0);
+  EXPECT_LT(ratio, 12.0);
+}
+
+TEST(Blackbody, AnEmissionRampOverTemperatureGlowsLikeABlackbody) {
+  const Scene sc = loadScene("boiling", {"render.material.flame.emission_ramp={ attribute = \"temperature\", range = [700.0, 1600.0], blackbody = 20.0 }",
+                                         "surfacing.attributes=[\"temperature\"]"});
+  const ColourRamp& ramp = sc.render.phaseMaterials.at(size_t(sc.phaseIndex("flame"))).emissionRamp;
+  ASSERT_FALSE(ramp.empty());
+  const auto luminance = [](const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
+  EXPECT_NEAR(luminance(ramp.at(1600)), 20.0, 0.05);  // the stated luminance at the top
+  // Hotter is brighter and bluer: red dominates at 700 deg C, less so at 1600.
+  EXPECT_LT(luminance(ramp.at(1000)), 0.1 * luminance(ramp.at(1600)));
+  EXPECT_GT(ramp.at(1600).y / ramp.at(1600).x, ramp.at(900).y / ramp.at(900).x);
+  EXPECT_GT(ramp.at(1600).x, ramp.at(1600).z);  // still orange, not white
+  auto problem = [](const std::vector<std::string>& sets) {
+    try {
+      loadScene("boiling", sets);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string dye = problem({"render.material.flame.emission_ramp={ attribute = \"dye\", range = [0.0, 1.0], blackbody = 1.0 }",
+                                   "surfacing.attributes=[\"dye\"]"});
+  EXPECT_NE(dye.find("emission_ramp.blackbody"), std::string::npos) << dye;
+  const std::string both = problem({"render.material.flame.emission_ramp={ attribute = \"temperature\", range = [0.0, 1.0], blackbody = 1.0, colours = [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]] }",
+                                    "surfacing.attributes=[\"temperature\"]"});
+  EXPECT_NE(both.find("colours or blackbody"), std::string::npos) << both;
 }
 
 // Motion vectors (render/aov.h): a plane facing the camera at distance D. Every point of it is
