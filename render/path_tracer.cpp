@@ -14,6 +14,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "media.h"
+#include "ramp_media.h"
 #include "ray_scene.h"
 #include "volume_field.h"
 #include "sampler.h"
@@ -40,9 +41,7 @@ struct PathTracer::Impl {
   Sky sky;
   std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
   std::vector<int> maskOf;             // per geometry: its index in maskNames, -1 for solids
-  // Per geometry: the fields its material's ramps read (null: the constant), and whether any.
-  std::vector<const VolumeField*> absorptionField, emissionField;
-  std::vector<uint8_t> heterogeneous;
+  RampMedia ramps;  // the media whose coefficients come from attribute grids
 
   Impl(std::vector<Surface> surfaces_, const RenderSettings& s, double frameInterval)
       : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces, s.shutter * frameInterval),
@@ -56,43 +55,7 @@ struct PathTracer::Impl {
         if (m == int(maskNames.size())) maskNames.push_back(sf.name);
       }
       maskOf.push_back(m);
-      const bool a = sf.absorptionField && !sf.material.absorptionRamp.empty();
-      const bool e = sf.emissionField && !sf.material.emissionRamp.empty();
-      absorptionField.push_back(a ? sf.absorptionField.get() : nullptr);
-      emissionField.push_back(e ? sf.emissionField.get() : nullptr);
-      heterogeneous.push_back(a || e);
-    }
-  }
-
-  /// Medium g's absorption and emission per metre at x: the ramps at the attributes there, or
-  /// the material's constants.
-  void mediumAt(int g, const Vec3& x, Vec3& sigma, Vec3& emit) const {
-    const MaterialSpec& m = materials[g];
-    sigma = absorptionField[g] ? m.absorptionRamp.at(absorptionField[g]->at(x)) : m.absorption;
-    emit = emissionField[g] ? m.emissionRamp.at(emissionField[g]->at(x)) : m.emission;
-  }
-
-  /// The step of the midpoint rule through medium g: its finest field's voxel.
-  Real marchStep(int g) const {
-    Real s = 1e30;
-    if (absorptionField[g]) s = std::min(s, absorptionField[g]->voxelSize());
-    if (emissionField[g]) s = std::min(s, emissionField[g]->voxelSize());
-    return s;
-  }
-
-  /// Through heterogeneous medium g along o + t d from t = a to b: adds the emission (through
-  /// `add`, times the throughput so far) and attenuates `throughput`, by the midpoint rule in
-  /// steps of at most one voxel (exact where the coefficients are linear along the ray).
-  template <class Add>
-  void march(int g, const Vec3& o, const Vec3& d, Real a, Real b, Vec3& throughput, Add&& add) const {
-    if (!(b > a)) return;
-    const int n = int(std::min(4096.0, std::ceil((b - a) / marchStep(g))));
-    const Real dt = (b - a) / n;
-    for (int k = 0; k < n; ++k) {
-      Vec3 sigma, emit;
-      mediumAt(g, o + d * (a + (k + 0.5) * dt), sigma, emit);
-      if (emit != Vec3{}) add(mul(throughput, emit) * dt);
-      throughput = mul(throughput, expNeg(sigma, dt));
+      ramps.add(sf);
     }
   }
 
@@ -145,8 +108,8 @@ struct PathTracer::Impl {
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
-        if (heterogeneous[medium]) {
-          march(medium, o, d, 0, seg, T, [](const Vec3&) {});
+        if (ramps.heterogeneous(medium)) {
+          ramps.march(materials[medium], medium, o, d, 0, seg, T, [](const Vec3&) {});
           T = mul(T, expNeg(Vec3{m.scattering, m.scattering, m.scattering}, seg));
         } else {
           T = mul(T, expNeg(m.absorption + Vec3{m.scattering, m.scattering, m.scattering}, seg));
@@ -290,10 +253,10 @@ struct PathTracer::Impl {
           if (flight < seg) {
             const Vec3 p = start + d * flight;
             Vec3 sigmaA = m.absorption;
-            if (heterogeneous[medium]) {
-              march(medium, start, d, done, flight, throughput, add);
+            if (ramps.heterogeneous(medium)) {
+              ramps.march(materials[medium], medium, start, d, done, flight, throughput, add);
               Vec3 emit;
-              mediumAt(medium, p, sigmaA, emit);
+              ramps.at(materials[medium], medium, p, sigmaA, emit);
             } else {
               throughput = mul(throughput, expNeg(m.absorption, flight - done));
               add(mul(throughput, m.emission) * (flight - done));
@@ -319,8 +282,8 @@ struct PathTracer::Impl {
           }
         }
         if (seg < 1e30) {
-          if (heterogeneous[medium]) {
-            march(medium, start, d, done, seg, throughput, add);
+          if (ramps.heterogeneous(medium)) {
+            ramps.march(materials[medium], medium, start, d, done, seg, throughput, add);
           } else {
             if (m.emission != Vec3{}) add(mul(throughput, m.emission) * (seg - done));  // adding zero changes nothing
             throughput = mul(throughput, expNeg(m.absorption, seg - done));
