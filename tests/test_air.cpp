@@ -1,6 +1,6 @@
 // Particles that are born and die (Mueller et al. 2005, section 5): emitters and sinks, trapped
-// air (generation, deletion, buoyancy), phase changes; ids, caps, determinism and checkpoints
-// with a changing particle count.
+// air (generation, deletion, buoyancy); ids, caps, determinism and checkpoints with a changing
+// particle count. Phase change: test_boiling.cpp.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -12,6 +12,7 @@
 #include <set>
 #include <sstream>
 
+#include "particle_test_util.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -22,32 +23,7 @@ namespace fs = std::filesystem;
 namespace {
 
 using namespace mf;
-
-std::string stateBytes(Simulation& sim) {
-  std::string bytes;
-  sim.mutableParticles().forEachArray([&](const char*, const auto& v) {
-    bytes.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(v[0]));
-  });
-  const double t = sim.time();
-  bytes.append(reinterpret_cast<const char*>(&t), sizeof t);
-  const uint64_t next = sim.nextId();
-  bytes.append(reinterpret_cast<const char*>(&next), sizeof next);
-  return bytes;
-}
-
-size_t countPhase(const Simulation& sim, const std::string& name) {
-  const int ph = sim.scene().phaseIndex(name);
-  const auto& p = sim.particles().phase;
-  return size_t(std::count(p.begin(), p.end(), uint16_t(ph)));
-}
-
-double statistic(const Simulation& sim, const std::string& effect, const std::string& key) {
-  for (const auto& e : sim.effects())
-    if (e->name() == effect)
-      for (const auto& [k, v] : e->statistics())
-        if (k == key) return v;
-  return -1;
-}
+using namespace mf::test_util;
 
 // A tank with a pool of water (spacing 1 cm) and an air phase; `extra` adds tables.
 std::string poolScene(const std::string& extra, Real poolHeight = 0.08, const std::string& trappedAir = "") {
@@ -429,238 +405,6 @@ TEST(PourGlass, BitIdenticalAcrossThreadsAndAfterResume) {
   std::set<int64_t> ids(frame.id.begin(), frame.id.end());
   EXPECT_EQ(ids.size(), frame.size());
   fs::remove_all(dir);
-}
-
-// ---- phase change ------------------------------------------------------------------------------
-
-// A pool of water at 105 deg C with one cavitation site at the bottom centre; no heat flow, so
-// only the phase change acts on temperatures.
-std::string boilingPool(Real temperature) {
-  return fmt::format(R"(
-[scene]
-name = "boil"
-end_time = 1.0
-domain_min = [-0.05, -0.05, -0.05]
-domain_max = [0.17, 0.3, 0.17]
-[solver]
-particle_spacing = 0.01
-density_formulation = "number"
-max_dt = 0.002
-[[phase]]
-name = "water"
-rest_density = 1000.0
-stiffness = 400.0
-viscosity = 0.2
-[[phase]]
-name = "vapour"
-rest_density = 300.0
-stiffness = 400.0
-viscosity = 0.02
-[[solid]]
-name = "tank"
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.12, 0.25, 0.12]
-open_top = true
-[[fluid]]
-phase = "water"
-min = [0.0, 0.0, 0.0]
-max = [0.12, 0.08, 0.12]
-temperature = {}
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
-[effects.phase_change]
-liquid = "water"
-vapour = "vapour"
-sites = 1
-site_min = [0.06, 0.005, 0.06]
-site_max = [0.06, 0.005, 0.06]
-site_radius = 1.0
-)",
-                     temperature);
-}
-
-TEST(PhaseChange, EvaporatesAtTheSiteKeepsMassAndCondensesWhenCooled) {
-  Simulation sim(parseScene(boilingPool(105.0), "boil.toml"));
-  const size_t n0 = sim.particles().size();
-  const Real m = sim.particles().mass[0];
-  const int vapour = sim.scene().phaseIndex("vapour");
-  // Every particle starts hot, but only the site (and then vapour's neighbours) nucleates.
-  sim.step(1.0);
-  const size_t first = countPhase(sim, "vapour");
-  for (size_t i = 0; i < sim.particles().size(); ++i) {
-    if (sim.particles().phase[i] == vapour) {
-      EXPECT_LE(length(sim.particles().position[i] - Vec3(0.06, 0.005, 0.06)), 0.0101);
-    }
-  }
-  EXPECT_GE(first, 1u);
-  EXPECT_LE(first, 7u);  // the site and at most its 6 lattice neighbours within one spacing
-  sim.advanceTo(0.1);
-  Real mass = 0, maxCompression = 0;
-  for (size_t i = 0; i < sim.particles().size(); ++i) {
-    mass += sim.particles().mass[i];
-    if (sim.particles().phase[i] == vapour)
-      maxCompression = std::max(maxCompression, sim.particles().density[i] / sim.particles().restDensity[i] - 1);
-  }
-  const size_t vapourCount = countPhase(sim, "vapour");
-  fmt::print("boiling pool: {} vapour after one step, {} after 0.1 s ({} left at the surface), largest vapour compression "
-             "{:.1f} %\n",
-             first, vapourCount, statistic(sim, "phase_change", "left_at_surface"), 100 * maxCompression);
-  EXPECT_GT(vapourCount, first);  // the bubble grows into the hot water around it
-  // Mass is kept on evaporation: every particle still has the water particle's mass (masses are
-  // copied, never recomputed; the tolerance is only the rounding of summing ~1 000 equal terms).
-  for (size_t i = 0; i < sim.particles().size(); ++i) EXPECT_EQ(sim.particles().mass[i], m);
-  EXPECT_NEAR(mass, m * Real(sim.particles().size()), 1e-12 * mass);
-  EXPECT_EQ(sim.particles().size() + sim.counters().removedByEffects + sim.counters().removedOutOfDomain, n0);
-  // The expansion is held to 25 % compression when the step ends; the next step's motion adds
-  // a little (the watchdog stops at 50 %).
-  EXPECT_LT(maxCompression, 0.5);
-  // Cooled below 100 - 2 deg C, all vapour condenses in the next step.
-  for (Real& T : sim.mutableParticles().temperature) T = 50;
-  sim.step(1.0);
-  EXPECT_EQ(countPhase(sim, "vapour"), 0u);
-  EXPECT_EQ(statistic(sim, "phase_change", "condensed"),
-            statistic(sim, "phase_change", "evaporated") - statistic(sim, "phase_change", "left_at_surface"));
-  for (size_t i = 0; i < sim.particles().size(); ++i) EXPECT_EQ(sim.particles().restDensity[i], 1000.0);
-}
-
-TEST(Boiling, BitIdenticalAcrossThreadsAndAfterResume) {
-  // The boiling scene at a 1 cm spacing, long enough for flames to heat the glass and the
-  // first vapour to form (the glass bottom is started hot).
-  const Scene scene = loadScene("boiling", {"solver.particle_spacing=0.01", "scene.end_time=0.4",
-                                            "effects.flame_heating.wall_temperature=300", "fluid.0.temperature=95"});
-  std::string reference;
-  for (int threads : {1, 2, 3}) {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    Simulation sim(scene);
-    sim.advanceTo(0.2);
-    sim.advanceTo(0.4);
-    if (reference.empty()) {
-      reference = stateBytes(sim);
-      fmt::print("boiling (1 cm) at 0.4 s: {} water, {} vapour, {} flame; evaporated {}, condensed {}, left {}; glass {:.1f} C\n",
-                 countPhase(sim, "water"), countPhase(sim, "vapour"), countPhase(sim, "flame"),
-                 statistic(sim, "phase_change", "evaporated"), statistic(sim, "phase_change", "condensed"),
-                 statistic(sim, "phase_change", "left_at_surface"), statistic(sim, "flame_heating", "wall_temperature"));
-      EXPECT_GT(statistic(sim, "phase_change", "evaporated"), 0);
-      EXPECT_GT(countPhase(sim, "flame"), 0u);
-    } else {
-      EXPECT_TRUE(stateBytes(sim) == reference) << threads << " threads";
-    }
-  }
-  const fs::path dir = fs::temp_directory_path() / ("mf_test_boil_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  Simulation first(scene);
-  first.advanceTo(0.2);
-  first.saveCheckpoint((dir / "ck.bin").string(), 5);
-  Simulation resumed(scene);
-  EXPECT_EQ(resumed.loadCheckpoint((dir / "ck.bin").string()), 5);
-  EXPECT_EQ(statistic(resumed, "flame_heating", "wall_temperature"), statistic(first, "flame_heating", "wall_temperature"));
-  resumed.advanceTo(0.4);
-  EXPECT_TRUE(stateBytes(resumed) == reference) << "resumed run differs";
-  fs::remove_all(dir);
-}
-
-
-TEST(Boiling, VapourOnlyAtTheSiteAboveBoilingWhileTheWaterWarms) {
-  // The boiling scene from 0 deg C at a 1 cm spacing (about 650 water particles) with one
-  // cavitation site at a known point on the bottom: every particle that turns to vapour was
-  // above the boiling temperature (saturated vapour starts at exactly 100 deg C, min(T, 100)),
-  // and either lies within site_radius of the site or joins vapour that was there the step
-  // before (a growing bubble) away from the glass (the heated layer, wall_distance); the first
-  // vapour is at the site. The water's
-  // mean temperature, sampled every 0.1 s, never falls while the flames burn.
-  const Vec3 site(0.0, 0.005, 0.0);
-  const Real end = 3.0;
-  const Scene scene = loadScene("boiling", {"solver.particle_spacing=0.01", fmt::format("scene.end_time={}", end),
-                                            "effects.phase_change.sites=1", "effects.phase_change.site_min=[0.0, 0.005, 0.0]",
-                                            "effects.phase_change.site_max=[0.0, 0.005, 0.0]",
-                                            // the heated layer at this spacing: one layer, 1.1 cm as in the scene
-                                            "effects.phase_change.wall_distance=1.1"});
-  Simulation sim(scene);
-  const int water = scene.phaseIndex("water"), vapour = scene.phaseIndex("vapour");
-  const Real s = sim.particleSpacing(), h = sim.kernels().h;
-  Real siteRadius = 0, wallDistance = 0, boiling = 0;
-  for (const EffectSpec& e : scene.effects)
-    if (e.name == "phase_change") {
-      siteRadius = e.number("site_radius") * s;
-      wallDistance = e.number("wall_distance") * s;
-      boiling = e.number("boiling_temperature");
-    }
-  ASSERT_GT(siteRadius, 0);
-  const SolidSpec& glass = scene.solids.at(0);
-  std::map<uint64_t, uint16_t> before;  // id -> phase at the end of the previous step
-  std::vector<Vec3> vapourBefore;
-  for (size_t i = 0; i < sim.particles().size(); ++i) before[sim.particles().id[i]] = sim.particles().phase[i];
-  uint64_t born = 0, atSite = 0, grown = 0, misplaced = 0, notHot = 0;
-  Real firstVapour = -1, firstDistance = -1;
-  auto waterMean = [&](const Simulation& sm) {
-    Real sum = 0;
-    size_t n = 0;
-    for (size_t i = 0; i < sm.particles().size(); ++i)
-      if (sm.particles().phase[i] == water) {
-        sum += sm.particles().temperature[i];
-        ++n;
-      }
-    return sum / Real(n);
-  };
-  std::vector<Real> means{waterMean(sim)};
-  std::vector<double> flames{0};
-  Real lastTime = 0;
-  for (int k = 1; Real(k) * 0.1 <= end + 1e-9; ++k) {
-    sim.advanceTo(Real(k) * 0.1, [&](const Simulation& sm) {
-      const ParticleSet& ps = sm.particles();
-      // The neighbour lists were built at the step's start; two particles have come closer or
-      // gone apart by at most 2 vmax dt since.
-      Real vmax = 0;
-      for (const Vec3& v : ps.velocity) vmax = std::max(vmax, length(v));
-      const Real reach = h + 2 * vmax * (sm.time() - lastTime);
-      lastTime = sm.time();
-      std::vector<Vec3> vapourNow;
-      for (size_t i = 0; i < ps.size(); ++i) {
-        if (ps.phase[i] != vapour) continue;
-        vapourNow.push_back(ps.position[i]);
-        const auto it = before.find(ps.id[i]);
-        if (it == before.end() || it->second != water) continue;
-        ++born;
-        const Vec3 x = ps.position[i];
-        notHot += ps.temperature[i] != boiling;
-        const bool nearSite = length(x - site) <= siteRadius * (1 + 1e-9);
-        bool nextToVapour = false;
-        for (const Vec3& v : vapourBefore) nextToVapour |= length(v - x) < reach;
-        const bool onGlass = !insideFluidRegion(glass, x, -wallDistance);
-        if (firstVapour < 0) {
-          firstVapour = sm.time();
-          firstDistance = length(x - site);
-        }
-        atSite += nearSite;
-        grown += !nearSite && nextToVapour && !onGlass;
-        misplaced += !nearSite && !(nextToVapour && !onGlass);
-      }
-      before.clear();
-      for (size_t i = 0; i < ps.size(); ++i) before[ps.id[i]] = ps.phase[i];
-      vapourBefore = std::move(vapourNow);
-    });
-    means.push_back(waterMean(sim));
-    flames.push_back(statistic(sim, "flame_heating", "flames_under_glass"));
-  }
-  std::string path;
-  for (size_t k = 0; k < means.size(); k += 5) path += fmt::format(" {:.1f}", means[k]);
-  fmt::print("boiling (1 cm, one site): first vapour at t = {:.3f} s, {:.4f} m from the site; {} evaporations: {} at the site, "
-             "{} growing a bubble, {} elsewhere, {} not from above {} C; condensed {}, left {}; water mean T every 0.5 s:{}\n",
-             firstVapour, firstDistance, born, atSite, grown, misplaced, notHot, boiling,
-             statistic(sim, "phase_change", "condensed"), statistic(sim, "phase_change", "left_at_surface"), path);
-  ASSERT_GT(firstVapour, 0) << "no vapour within " << end << " s";
-  EXPECT_LE(firstDistance, siteRadius * (1 + 1e-9));
-  EXPECT_GT(atSite, 0u);
-  EXPECT_EQ(misplaced, 0u);
-  EXPECT_EQ(notHot, 0u);
-  EXPECT_EQ(double(born), statistic(sim, "phase_change", "evaporated"));
-  EXPECT_EQ(double(atSite), statistic(sim, "phase_change", "evaporated_at_sites"));
-  for (size_t k = 1; k < means.size(); ++k)
-    if (flames[k] > 0) {
-      EXPECT_GE(means[k], means[k - 1]) << "t = " << 0.1 * double(k) << " s";
-    }
 }
 
 }  // namespace
