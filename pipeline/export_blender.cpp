@@ -43,14 +43,23 @@ std::string num(double v) {
 }
 std::string vec(const Vec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
 
-std::string material(const MaterialSpec& m) {
+/// An emission ramp: the grid it reads (surfacing's <attribute>_<fluid>), its range and colours.
+std::string emissionRamp(const MaterialSpec& m, const std::string& fluid) {
+  if (m.emissionRamp.empty()) return "null";
+  std::string colours;
+  for (const Vec3& c : m.emissionRamp.colours) colours += (colours.empty() ? "" : ", ") + vec(c);
+  return fmt::format(R"({{"grid": {}, "range": [{}, {}], "colours": [{}]}})", str(m.emissionRamp.attribute + "_" + fluid),
+                     num(m.emissionRamp.lo), num(m.emissionRamp.hi), colours);
+}
+
+std::string material(const MaterialSpec& m, const std::string& fluid = "") {
   const char* kind = m.kind == MaterialSpec::Kind::Dielectric ? "dielectric"
                      : m.kind == MaterialSpec::Kind::Medium   ? "medium"
                      : m.kind == MaterialSpec::Kind::Diffuse  ? "diffuse"
                                                               : "emitter";
-  return fmt::format(R"({{"kind": {}, "ior": {}, "absorption": {}, "scattering": {}, "colour": {}, "emission": {}, "priority": {}, "visible": {}}})",
+  return fmt::format(R"({{"kind": {}, "ior": {}, "absorption": {}, "scattering": {}, "colour": {}, "emission": {}, "priority": {}, "visible": {}, "emission_ramp": {}}})",
                      str(kind), num(m.ior), vec(m.absorption), num(m.scattering), vec(m.colour), vec(m.emission), m.priority,
-                     m.visible ? "true" : "false");
+                     m.visible ? "true" : "false", fluid.empty() ? "null" : emissionRamp(m, fluid));
 }
 
 /// The container's wall as the renderer traces it (render::solidMesh), in scene coordinates.
@@ -129,7 +138,7 @@ int exportBlender(const BlenderExportOptions& opt) {
     if (opt.meshes == "ply")
       for (int f = first; f <= last; ++f) meshes += (meshes.empty() ? "" : ", ") + str(meshFile(name, f).string());
     fluids += fmt::format(R"({}{{"name": {}, "grid": {}, "material": {}, "ply_meshes": [{}]}})", fluids.empty() ? "" : ",\n  ",
-                          str(name), str(name), material(rs.phaseMaterials[p]), meshes);
+                          str(name), str(name), material(rs.phaseMaterials[p], name), meshes);
   }
   std::string containers;
   for (size_t j = 0; j < scene.solids.size(); ++j)

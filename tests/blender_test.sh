@@ -105,6 +105,37 @@ blender -b "$work/keys/keys.blend" --factory-startup --python-exit-code 1 -P "$s
   fail "the camera-key .blend fails its checks:
 $(grep -E '^(FAIL|ok)|Error|error' "$work/check_keys.log")"
 grep -c '^ok' "$work/check_keys.log" | xargs echo "camera keys: checks passed:"
+# An emission ramp (boiling's flames, a blackbody over temperature): a visible volume object
+# of the VDB sequence maps the flames' temperature grid through the ramp inside their level set;
+# the flame mesh keeps no constant emission; Cycles renders it glowing orange.
+"$bin" run boiling --set solver.particle_spacing=0.01 --set scene.end_time=0.12 --threads 2 --stages sim,surface \
+  --out "$work/boil" 2> "$work/boil.log" || fail "the boiling run failed: $(tail -5 "$work/boil.log")"
+"$bin" export blender "$work/boil" --out "$work/boil/boil.blend" 2> "$work/export_boil.log" ||
+  fail "export of the boiling run failed: $(cat "$work/export_boil.log")"
+blender -b "$work/boil/boil.blend" --factory-startup --python-exit-code 1 --python-expr '
+import bpy, sys
+out = sys.argv[sys.argv.index("--") + 1]
+obj = bpy.data.objects["flame_emission"]
+assert obj.type == "VOLUME" and not obj.hide_render, "flame_emission is not a visible volume"
+nodes = obj.data.materials[0].node_tree.nodes
+names = sorted(n.attribute_name for n in nodes if n.type == "ATTRIBUTE")
+assert names == ["flame", "temperature_flame"], "attributes read: %s" % names
+ramp = [n for n in nodes if n.type == "VALTORGB"][0].color_ramp.elements
+assert len(ramp) == 32, "%d ramp elements" % len(ramp)
+assert max(ramp[0].color[:3]) < 1e-3 and abs(max(ramp[-1].color[:3]) - 1) < 1e-6, "ramp ends %s %s" % (tuple(ramp[0].color), tuple(ramp[-1].color))
+assert ramp[-1].color[0] > ramp[-1].color[2], "the hot end is not orange"
+mesh_nodes = bpy.data.objects["flame"].data.materials[0].node_tree.nodes
+assert not [n for n in mesh_nodes if n.type == "EMISSION"], "the flame mesh still emits a constant"
+s = bpy.context.scene
+s.render.engine = "CYCLES"; s.cycles.samples = 4; s.render.resolution_x, s.render.resolution_y = 48, 27
+s.render.resolution_percentage = 100; s.frame_set(3)
+s.render.filepath = out; bpy.ops.render.render(write_still=True)
+img = bpy.data.images.load(out); px = list(img.pixels)
+glow = sum(1 for i in range(0, len(px), 4) if px[i] > 0.2 and px[i] > 1.5 * px[i + 2])
+print("emission ramp: 32 elements; %d orange pixels in Cycles" % glow)
+assert glow > 0, "no pixel glows orange"
+' -- "$work/boil_render.png" > "$work/boil_check.log" 2>&1 || fail "the emission ramp in Blender: $(grep -E 'Error|assert' "$work/boil_check.log" | tail -5)"
+grep '^emission ramp' "$work/boil_check.log"
 # The PLY point cloud in Blender's PLY importer: every particle a vertex; which properties it keeps.
 ply=$work/run/points/points.0002.ply
 n=$(head -c 2000 "$ply" | grep -a -m1 '^element vertex' | awk '{print $3}')

@@ -70,9 +70,10 @@ def make_material(name, m):
             scatter.inputs["Density"].default_value = m["scattering"]
             scatter.inputs["Color"].default_value = (1, 1, 1, 1)
             extra = scatter
-        # Emission as radiance per metre, in any volume (the renderer's flames are dielectrics).
+        # Emission as radiance per metre, in any volume (the renderer's flames are dielectrics);
+        # an emission ramp replaces it (emission_volume).
         e = m["emission"]
-        if max(e) > 0:
+        if max(e) > 0 and not m.get("emission_ramp"):
             em = tree.nodes.new("ShaderNodeEmission")
             em.inputs["Color"].default_value = [c / max(e) for c in e] + [1.0]
             em.inputs["Strength"].default_value = max(e)
@@ -104,10 +105,9 @@ def link(obj, coll, root):
     return obj
 
 
-def fluid_from_vdb(f, man, coll, root):
-    """The level-set sequence as a volume object (hidden) and a mesh object whose Volume to Mesh
-    modifier meshes this fluid's grid at its zero crossing."""
-    vol = bpy.data.volumes.new(f["name"] + "_levelset")
+def vdb_sequence(name, man):
+    """The run's surface VDB files as a volume datablock, one file per frame."""
+    vol = bpy.data.volumes.new(name)
     vol.filepath = man["surface_first_file"]
     n = man["frame_end"] - man["frame_start"] + 1
     vol.is_sequence = n > 1
@@ -116,6 +116,61 @@ def fluid_from_vdb(f, man, coll, root):
     vol.frame_duration = n
     vol.frame_offset = man["frame_start"] - 1
     vol.sequence_mode = "CLIP"
+    return vol
+
+
+def emission_volume(f, man, coll, root):
+    """A fluid's emission ramp (the renderer's emission from an attribute grid, inside the fluid)
+    as a volume object of the VDB sequence: the grid mapped over the ramp's range through a
+    Color Ramp of its colours (at most 32, Blender's limit), where the fluid's level set is
+    negative."""
+    r = f["material"].get("emission_ramp")
+    if not r:
+        return None
+    obj = link(bpy.data.objects.new(f["name"] + "_emission", vdb_sequence(f["name"] + "_emission", man)), coll, root)
+    mat = bpy.data.materials.new(f["name"] + "_emission")
+    tree, out = node_tree(mat)
+    value = tree.nodes.new("ShaderNodeAttribute")
+    value.attribute_name = r["grid"]
+    span = tree.nodes.new("ShaderNodeMapRange")
+    span.inputs["From Min"].default_value, span.inputs["From Max"].default_value = r["range"]
+    tree.links.new(value.outputs["Fac"], span.inputs["Value"])
+    colours = r["colours"]
+    picks = sorted({round(k * (len(colours) - 1) / (min(32, len(colours)) - 1)) for k in range(min(32, len(colours)))})
+    peak = max(max(max(c) for c in colours), 1e-12)
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    elements = ramp.color_ramp.elements  # two to start with, at 0 and 1; kept sorted by position
+    positions = [k / (len(colours) - 1) for k in picks]
+    elements[0].position, elements[-1].position = 0.0, 1.0
+    for pos in positions[1:-1]:
+        elements.new(pos)
+    for e in elements:
+        i = min(range(len(picks)), key=lambda i: abs(positions[i] - e.position))
+        e.color = [c / peak for c in colours[picks[i]]] + [1.0]
+    tree.links.new(span.outputs["Result"], ramp.inputs["Fac"])
+    phi = tree.nodes.new("ShaderNodeAttribute")
+    phi.attribute_name = f["grid"]
+    inside = tree.nodes.new("ShaderNodeMath")
+    inside.operation = "LESS_THAN"
+    inside.inputs[1].default_value = 0.0
+    tree.links.new(phi.outputs["Fac"], inside.inputs[0])
+    strength = tree.nodes.new("ShaderNodeMath")
+    strength.operation = "MULTIPLY"
+    strength.inputs[1].default_value = peak
+    tree.links.new(inside.outputs[0], strength.inputs[0])
+    em = tree.nodes.new("ShaderNodeEmission")
+    tree.links.new(ramp.outputs["Color"], em.inputs["Color"])
+    tree.links.new(strength.outputs[0], em.inputs["Strength"])
+    tree.links.new(em.outputs[0], out.inputs["Volume"])
+    obj.data.materials.append(mat)
+    obj["multifluid_emission_grid"] = r["grid"]
+    return obj
+
+
+def fluid_from_vdb(f, man, coll, root):
+    """The level-set sequence as a volume object (hidden) and a mesh object whose Volume to Mesh
+    modifier meshes this fluid's grid at its zero crossing."""
+    vol = vdb_sequence(f["name"] + "_levelset", man)
     vobj = link(bpy.data.objects.new(f["name"] + "_levelset", vol), coll, root)
     vobj.hide_render = True
     vobj.display_type = "WIRE"
@@ -331,6 +386,7 @@ def main():
                 obj.data.materials.append(mat)
         else:
             fluid_from_vdb(f, man, coll, root).data.materials.append(mat)
+        emission_volume(f, man, coll, root)
     for c in man["containers"]:
         container(c, coll, root)
     camera(man, coll, root)
