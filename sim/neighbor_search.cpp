@@ -148,27 +148,13 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
         addOverlapped(nr, cellLo, 0);
       }
       int nImages = 1;
-      if (periodic.any()) {
-        // Per periodic axis, the shifts that bring this cell's points near the opposite face.
-        Real axisShift[3][3];
-        int axisCount[3];
-        for (int a = 0; a < 3; ++a) {
-          axisShift[a][0] = 0;
-          axisCount[a] = 1;
-          if (!periodic.wraps(a)) continue;
-          const Real L = periodic.length[a];
-          if (cellLo[a] - periodic.lo[a] < radius) axisShift[a][axisCount[a]++] = L;
-          if (periodic.lo[a] + L - (cellLo[a] + cellSize_) < radius) axisShift[a][axisCount[a]++] = -L;
-        }
-        for (int iz = 0; iz < axisCount[2]; ++iz)
-          for (int iy = 0; iy < axisCount[1]; ++iy)
-            for (int ix = 0; ix < axisCount[0]; ++ix) {
-              if (ix == 0 && iy == 0 && iz == 0) continue;
-              imageShift[nImages] = Vec3(axisShift[0][ix], axisShift[1][iy], axisShift[2][iz]);
-              addOverlapped(nr, cellLo + imageShift[nImages], nImages);
-              ++nImages;
-            }
-      }
+      const auto addImage = [&](const Vec3& shift) {
+        imageShift[nImages] = shift;
+        addOverlapped(nr, cellLo + shift, nImages);
+        ++nImages;
+      };
+      if (periodic.any())
+        periodic.forEachImage(cellLo, cellLo + Vec3(cellSize_, cellSize_, cellSize_), Vec3(radius, radius, radius), addImage);
       const Vec3* xs = other.sortedPoints_.data();
       const uint32_t* js = other.sorted_.data();
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {

@@ -31,6 +31,28 @@ struct PeriodicDomain {
     return d;
   }
 
+  /// Calls f(shift) for each image of the box [boxLo, boxHi] that lies within `margin` (per
+  /// axis) of the opposite face on every periodic axis it is shifted along: per axis a shift of +length
+  /// where the box is within margin of the lower face, -length near the upper one (both, for a
+  /// box near both), and every combination of those over the axes but no shift at all, in a
+  /// fixed order (x fastest).
+  template <class F>
+  void forEachImage(const Vec3& boxLo, const Vec3& boxHi, const Vec3& margin, F&& f) const {
+    Real shift[3][3];
+    int count[3];
+    for (int a = 0; a < 3; ++a) {
+      shift[a][0] = 0;
+      count[a] = 1;
+      if (!wraps(a)) continue;
+      if (boxLo[a] - lo[a] < margin[a]) shift[a][count[a]++] = length[a];
+      if (lo[a] + length[a] - boxHi[a] < margin[a]) shift[a][count[a]++] = -length[a];
+    }
+    for (int iz = 0; iz < count[2]; ++iz)
+      for (int iy = 0; iy < count[1]; ++iy)
+        for (int ix = 0; ix < count[0]; ++ix)
+          if (ix || iy || iz) f(Vec3(shift[0][ix], shift[1][iy], shift[2][iz]));
+  }
+
   /// x brought back into [lo, lo + length) on the periodic axes.
   Vec3 wrap(Vec3 x) const {
     for (int a = 0; a < 3; ++a)

@@ -12,26 +12,15 @@ std::vector<uint32_t> periodicImages(const std::vector<openvdb::Vec3d>& position
   std::vector<uint32_t> source;
   images.clear();
   if (!domain.any()) return source;
+  // At most half a period from a face: then a point is near one face of each axis only.
+  const Vec3 m(std::min(margin, 0.5 * domain.length.x), std::min(margin, 0.5 * domain.length.y),
+               std::min(margin, 0.5 * domain.length.z));
   for (size_t i = 0; i < positions.size(); ++i) {
-    const openvdb::Vec3d& p = positions[i];
-    // Per axis the shifts that apply: 0, and +L near the lower face or -L near the upper one.
-    double shift[3][2];
-    int count[3];
-    for (int a = 0; a < 3; ++a) {
-      shift[a][0] = 0;
-      count[a] = 1;
-      if (!domain.wraps(a)) continue;
-      const double lo = domain.lo[a], L = domain.length[a], m = std::min(margin, 0.5 * L);
-      if (p[a] - lo < m) shift[a][count[a]++] = L;
-      else if (lo + L - p[a] < m) shift[a][count[a]++] = -L;
-    }
-    for (int iz = 0; iz < count[2]; ++iz)
-      for (int iy = 0; iy < count[1]; ++iy)
-        for (int ix = 0; ix < count[0]; ++ix) {
-          if (ix == 0 && iy == 0 && iz == 0) continue;
-          images.push_back(p + openvdb::Vec3d(shift[0][ix], shift[1][iy], shift[2][iz]));
-          source.push_back(uint32_t(i));
-        }
+    const Vec3 p(positions[i].x(), positions[i].y(), positions[i].z());
+    domain.forEachImage(p, p, m, [&](const Vec3& shift) {
+      images.push_back(positions[i] + openvdb::Vec3d(shift.x, shift.y, shift.z));
+      source.push_back(uint32_t(i));
+    });
   }
   return source;
 }
