@@ -507,9 +507,10 @@ def gen_other_measured(corpus, c, rng):
     for cfg, eff, vkey, val in [("diffusion", "heat_diffusion", "temperature", 90.0), ("boiling", "heat_diffusion", "temperature", 150.0),
                                 ("diffusion", "dye_diffusion", "concentration", 1.0)]:
         lo, hi = [0.2, 0.1, 0.1], [0.0, 0.0, 0.0]
+        k = len(c.doc[cfg].get("effects", {}).get(eff, {}).get("source", []))  # appended after the scene's own
         d = c.edit(cfg).append(table_text("effects.%s.source" % eff, {"min": lo, "max": hi, vkey: val, "rate": 1.0}))
-        corpus.add("source_inverted", cfg, "added effects.%s.source[0] min = %s, max = %s" % (eff, tv(lo), tv(hi)), d.text(),
-                   expect="key:effects.%s.source[0]" % eff, sets=[(("effects", eff, "source", 0, "max"), hi)])
+        corpus.add("source_inverted", cfg, "added effects.%s.source[%d] min = %s, max = %s" % (eff, k, tv(lo), tv(hi)), d.text(),
+                   expect="key:effects.%s.source[%d]" % (eff, k), sets=[(("effects", eff, "source", k, "max"), hi)])
 
     # fractions that are all zero
     for cfg, fr in [("two_fluids_mixed", [0, 0]), ("water_oil", [0.0, 0.0])]:
