@@ -36,32 +36,24 @@ RayScene::RayScene(const std::vector<Surface>& surfaces, Real shutterSeconds) {
   for (size_t g = 0; g < surfaces.size(); ++g) {
     const RenderMesh& m = surfaces[g].mesh;
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // A moving surface has two time steps, at x - v s/2 and x + v s/2; a still one, one at x.
     const bool moving = shutterSeconds > 0 && m.velocities.size() == m.positions.size() && !m.positions.empty();
-    if (moving) {
-      rtcSetGeometryTimeStepCount(geom, 2);
-      for (unsigned step = 0; step < 2; ++step) {
-        auto* w = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), m.positions.size()));
-        const Real f = (step == 0 ? -0.5 : 0.5) * shutterSeconds;
-        for (size_t i = 0; i < m.positions.size(); ++i) {
-          const Float3& p = m.positions[i];
-          const Float3& vel = m.velocities[i];
-          w[3 * i] = float(p.x + f * vel.x), w[3 * i + 1] = float(p.y + f * vel.y), w[3 * i + 2] = float(p.z + f * vel.z);
-          lo = cwiseMin(lo, {w[3 * i], w[3 * i + 1], w[3 * i + 2]});
-          hi = cwiseMax(hi, {w[3 * i], w[3 * i + 1], w[3 * i + 2]});
-        }
+    const unsigned steps = moving ? 2 : 1;
+    if (moving) rtcSetGeometryTimeStepCount(geom, steps);
+    for (unsigned step = 0; step < steps; ++step) {
+      auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, step, RTC_FORMAT_FLOAT3,
+                                                            3 * sizeof(float), std::max<size_t>(m.positions.size(), 1)));
+      const Real f = moving ? (step == 0 ? -0.5 : 0.5) * shutterSeconds : 0;
+      for (size_t i = 0; i < m.positions.size(); ++i) {
+        const Float3& p = m.positions[i];
+        const Float3 vel = moving ? m.velocities[i] : Float3{0, 0, 0};
+        v[3 * i] = float(p.x + f * vel.x), v[3 * i + 1] = float(p.y + f * vel.y), v[3 * i + 2] = float(p.z + f * vel.z);
+        lo = cwiseMin(lo, {v[3 * i], v[3 * i + 1], v[3 * i + 2]});
+        hi = cwiseMax(hi, {v[3 * i], v[3 * i + 1], v[3 * i + 2]});
       }
     }
-    auto* v = moving ? nullptr
-                     : static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                   3 * sizeof(float), std::max<size_t>(m.positions.size(), 1)));
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                                3 * sizeof(unsigned), m.triangles.size()));
-    for (size_t i = 0; i < m.positions.size() && v; ++i) {
-      v[3 * i] = m.positions[i].x, v[3 * i + 1] = m.positions[i].y, v[3 * i + 2] = m.positions[i].z;
-      lo = cwiseMin(lo, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
-      hi = cwiseMax(hi, {m.positions[i].x, m.positions[i].y, m.positions[i].z});
-    }
     for (size_t i = 0; i < m.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) idx[3 * i + k] = m.triangles[i][k];
     rtcCommitGeometry(geom);

@@ -353,7 +353,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     for (size_t k = 0; k < sc.solids.size(); ++k)
       for (int a = 0; a < 3; ++a) {
         const SolidSpec& so = sc.solids[k];
-        if (!(sc.periodicAxes >> a & 1) || so.shape != SolidSpec::Shape::Box) continue;
+        if (!sc.periodic().wraps(a) || so.shape != SolidSpec::Shape::Box) continue;
         if (so.min[a] <= sc.domainMin[a] && so.max[a] >= sc.domainMax[a]) continue;
         const std::string key = fmt::format("solid[{}].min", k);
         r.problemAt(r.lines.count(key) ? r.lines[key] : 0, key,

@@ -458,14 +458,19 @@ void Simulation::checkInputs() const {
       ps_.position[i].z, ps_.velocity[i].x, ps_.velocity[i].y, ps_.velocity[i].z, ps_.mass[i]));
 }
 
+bool Simulation::leavesDomain(const Vec3& x) const {
+  for (int a = 0; a < 3; ++a)
+    if (!((scene_.periodicAxes >> a) & 1) && (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a])) return true;
+  return false;
+}
+
 void Simulation::removeOutOfDomain() {
   const size_t n = ps_.size();
   std::vector<uint8_t> out(n, 0);
   bool any = false;
   for (size_t i = 0; i < n; ++i) {
     const Vec3& x = ps_.position[i];
-    for (int a = 0; a < 3; ++a)
-      if (!(scene_.periodicAxes >> a & 1) && (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a])) out[i] = 1;
+    if (leavesDomain(x)) out[i] = 1;
     any |= out[i] != 0;
     if (out[i]) ++leftDomain_[ps_.phase[i]];
   }
@@ -501,8 +506,7 @@ void Simulation::editParticles() {
       continue;
     }
     const Vec3& x = ps_.position[i];
-    for (int a = 0; a < 3; ++a)
-      if (!(scene_.periodicAxes >> a & 1) && (x[a] < scene_.domainMin[a] || x[a] > scene_.domainMax[a])) edits.remove[i] = 1;
+    if (leavesDomain(x)) edits.remove[i] = 1;
     if (edits.remove[i]) ++outside, ++leftDomain_[ps_.phase[i]];
   }
   if (byEffects + outside > 0) ps_.removeFlagged(edits.remove);

@@ -122,6 +122,8 @@ class Simulation {
   void retryOrStop(int attempt, Real dt, int64_t bad, const std::string& why, const std::string& parameter);
   /// Index of the first particle that breaks a watchdog rule, or -1; fills `why`.
   int64_t findInvalidParticle(Real dt, std::string& why, std::string& parameter) const;
+  /// Outside the domain box on an axis that does not wrap: the particle is removed and counted.
+  bool leavesDomain(const Vec3& x) const;
   void removeOutOfDomain();
   /// Births and removals of the effects that edit particles, and the domain check, in one pass.
   void editParticles();
