@@ -48,8 +48,10 @@ max = [0.12, 0.12, 0.12]
 )";
 
 TEST(Physics, LinearMomentumConservedWithoutWallsOrGravity) {
+  for (const char* solver : {"wcsph", "dfsph"})
   for (const char* formulation : {"mass", "number"}) {
-    mf::Simulation sim(mf::parseScene(kFreeCube, "free", {std::string("solver.density_formulation=") + formulation}));
+    mf::Simulation sim(mf::parseScene(kFreeCube, "free", {std::string("solver.density_formulation=") + formulation,
+                                                          std::string("solver.pressure=\"") + solver + "\""}));
     std::mt19937_64 rng(5);
     std::normal_distribution<double> n(0, 0.3);
     auto& ps = sim.mutableParticles();
@@ -68,8 +70,12 @@ TEST(Physics, LinearMomentumConservedWithoutWallsOrGravity) {
     for (int k = 0; k < 200; ++k) sim.step(1.0);
     const auto [p1, scale1] = momentum();
     // Pair forces cancel exactly; what remains is the rounding of the sums over ~1700 particles
-    // and 200 steps: ~1e-16 relative per operation, far below 1e-10.
-    EXPECT_LT(mf::length(p1 - p0), 1e-10 * scale) << formulation;
+    // and 200 steps: ~1e-16 relative per operation, far below 1e-10. DFSPH's pressure pairs
+    // cancel as exactly, but its implicit viscosity stops at a residual of 1e-6 of |M v| per
+    // solve (measured: 7.7e-7 and 1.4e-6 of the scale after 200 steps): 1e-5 bounds that, and an
+    // unbalanced pressure force would be orders of magnitude above it.
+    const double bound = std::string(solver) == "wcsph" ? 1e-10 : 1e-5;
+    EXPECT_LT(mf::length(p1 - p0), bound * scale) << solver << ", " << formulation;
     EXPECT_EQ(sim.counters().retries, 0u);
     (void)scale1;
   }
@@ -82,7 +88,9 @@ struct BoxRun {
 };
 
 BoxRun runClosedBox(bool still, double endTime, const std::string& kernel, double cfl = 0.4) {
-  mf::Simulation sim(mf::parseScene(mf::closedBoxScene(still), "closed_box", {"solver.kernel=" + kernel, "solver.cfl=" + std::to_string(cfl)}));
+  // WCSPH: the energy the explicit pressure force and symplectic Euler conserve is measured here.
+  mf::Simulation sim(mf::parseScene(mf::closedBoxScene(still), "closed_box",
+                                    {"solver.pressure=\"wcsph\"", "solver.kernel=" + kernel, "solver.cfl=" + std::to_string(cfl)}));
   const double e0 = mf::mechanicalEnergy(sim);
   BoxRun r;
   sim.advanceTo(endTime, [&](const mf::Simulation& s) { r.growth = std::max(r.growth, mf::mechanicalEnergy(s) / e0 - 1); });

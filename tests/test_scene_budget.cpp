@@ -14,6 +14,7 @@ frame_rate = 30
 domain_min = [0.0, 0.0, 0.0]
 domain_max = [1.0, 1.0, 1.0]
 [solver]
+pressure = "wcsph"  # the stiffness bounds the step
 particle_spacing = 0.05
 [[phase]]
 name = "water"

@@ -131,15 +131,17 @@ TEST(Scenes, TwoFluidsMixedLightFluidEndsOnTop) {
   const double gap0 = meanHeight(light) - meanHeight(heavy);
   sim.advanceTo(scene.endTime);
   // Fully separated layers of equal volume have their centres half the fluid depth apart
-  // (0.075 m here); mixed at random they coincide. Require 70 % of the way: without interface
-  // tension (a later effect) small light droplets stay caught in the heavy fluid for long.
+  // (0.075 m here); mixed at random they coincide. Require 90 % of the way: the layers' own
+  // compression and the surface layer move the centres by under a spacing (1 cm, 13 % of the
+  // gap); without the scene's hydrostatic reference the gap is 0.062 m (83 %).
   const double gap = meanHeight(light) - meanHeight(heavy);
   std::printf("two_fluids_mixed: centre of light above centre of heavy by %.4f m at start, %.4f m at %.1f s\n", gap0,
               gap, sim.time());
   EXPECT_LT(std::fabs(gap0), 0.01);
-  EXPECT_GT(gap, 0.7 * 0.075);
-  // And at least 90 % of the light particles sit above the heavy fluid's median height
-  // (50 % when mixed).
+  EXPECT_GT(gap, 0.9 * 0.075);
+  // And, as issue 23 asks, at most 3 % of the light particles below the heavy fluid's median
+  // height (50 % when mixed; 8.9 % without the hydrostatic reference, whose lone light
+  // particles stay caged: 3.7 % still at 4.5 s at 0.5 cm).
   std::vector<double> heavyY;
   for (size_t i = 0; i < sim.particles().size(); ++i)
     if (sim.particles().phase[i] == heavy) heavyY.push_back(sim.particles().position[i].y);
@@ -153,7 +155,7 @@ TEST(Scenes, TwoFluidsMixedLightFluidEndsOnTop) {
     }
   std::printf("two_fluids_mixed: %d of %d light particles (%.1f %%) below the heavy fluid's median height\n", lightBelow,
               lightTotal, 100.0 * lightBelow / lightTotal);
-  EXPECT_LT(lightBelow, lightTotal / 10);
+  EXPECT_LE(lightBelow, lightTotal * 3 / 100);
 }
 
 }  // namespace
