@@ -12,6 +12,7 @@ void ParticleSet::enable(AttributeMask mask) {
   if (has(Attribute::Temperature)) temperature.resize(n, 0);
   if (has(Attribute::Dye)) dye.resize(n, 0);
   if (has(Attribute::DivergencePressure)) divergencePressure.resize(n, 0);
+  if (has(Attribute::Latent)) latent.resize(n, 0);
 }
 
 void ParticleSet::reserve(size_t n) {
@@ -37,6 +38,7 @@ void ParticleSet::append(uint64_t newId, const ParticleInit& p) {
   if (has(Attribute::Dye)) dye.push_back(p.dye);
   // A newborn particle starts without pressure; the solves build it within the step.
   if (has(Attribute::DivergencePressure)) divergencePressure.push_back(0);
+  if (has(Attribute::Latent)) latent.push_back(0);
 }
 
 void ParticleSet::permute(const std::vector<uint32_t>& order) {

@@ -19,6 +19,7 @@ enum class Attribute : uint32_t {
   Temperature = 1u << 2,      // T in degrees Celsius
   Dye = 1u << 3,              // a passive concentration (dimensionless) that can diffuse
   DivergencePressure = 1u << 4,  // the divergence solve's pressure (DFSPH warm start)
+  Latent = 1u << 5,              // heat taken towards evaporation (phase_change.latent_heat), K
 };
 using AttributeMask = uint32_t;
 constexpr AttributeMask bit(Attribute a) { return static_cast<AttributeMask>(a); }
@@ -51,6 +52,7 @@ struct ParticleSet {
   std::vector<Real> temperature;
   std::vector<Real> dye;
   std::vector<Real> divergencePressure;  // Pa (solver.pressure = "dfsph")
+  std::vector<Real> latent;              // K of the liquid's heat capacity (phase_change.latent_heat)
 
   AttributeMask attributes = 0;
 
@@ -93,6 +95,7 @@ struct ParticleSet {
     if (has(Attribute::Temperature)) f("temperature", temperature);
     if (has(Attribute::Dye)) f("dye", dye);
     if (has(Attribute::DivergencePressure)) f("divergencePressure", divergencePressure);
+    if (has(Attribute::Latent)) f("latent", latent);
   }
 
   /// Bytes held by all arrays (capacity), for memory reports and tests.

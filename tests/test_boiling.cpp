@@ -24,8 +24,8 @@ using namespace mf;
 using namespace mf::test_util;
 
 // A pool of water at 105 deg C with one cavitation site at the bottom centre; no heat flow, so
-// only the phase change acts on temperatures.
-std::string boilingPool(Real temperature) {
+// only the phase change acts on temperatures. `extra` is appended (more tables).
+std::string boilingPool(Real temperature, const std::string& extra = "") {
   return fmt::format(R"(
 [scene]
 name = "boil"
@@ -67,8 +67,8 @@ sites = 1
 site_min = [0.06, 0.005, 0.06]
 site_max = [0.06, 0.005, 0.06]
 site_radius = 1.0
-)",
-                     temperature);
+{})",
+                     temperature, extra);
 }
 
 TEST(PhaseChange, EvaporatesAtTheSiteKeepsMassAndCondensesWhenCooled) {
@@ -113,6 +113,57 @@ TEST(PhaseChange, EvaporatesAtTheSiteKeepsMassAndCondensesWhenCooled) {
   EXPECT_EQ(statistic(sim, "phase_change", "condensed"),
             statistic(sim, "phase_change", "evaporated") - statistic(sim, "phase_change", "left_at_surface"));
   for (size_t i = 0; i < sim.particles().size(); ++i) EXPECT_EQ(sim.particles().restDensity[i], 1000.0);
+}
+
+TEST(PhaseChange, LatentHeatSetsWhenTheSiteEvaporatesWhateverTheStep) {
+  // The pool 6 K above boiling, with L / c_p = 10 K: the site's water takes its 6 K of superheat
+  // into its latent store and waits. A heater around the site (held at 120 deg C, rate 2 /s; no
+  // conduction) then delivers r (120 - 100) = 40 K/s into the store, since the water is held at
+  // 100: the store reaches 10 K at t* = (10 - 6) / 40 = 0.1 s exactly, for any step. Without
+  // the latent heat the site evaporates in the first step.
+  const std::string heater = R"(
+[effects.heat_diffusion]
+[[effects.heat_diffusion.source]]
+min = [0.045, -0.01, 0.045]
+max = [0.075, 0.02, 0.075]
+temperature = 120.0
+rate = 2.0
+)";
+  const Real tStar = 0.1;
+  for (const char* cfl : {"0.1", "0.4"}) {
+    Simulation sim(parseScene(boilingPool(106.0, heater), "latent.toml",
+                              {"effects.phase_change.latent_heat=10", std::string("solver.cfl=") + cfl}));
+    EXPECT_TRUE(sim.particles().has(Attribute::Latent));
+    Real first = -1, dt = 0;
+    while (sim.time() < 0.15 && first < 0) {
+      const Real t0 = sim.time();
+      sim.step(1.0);
+      dt = std::max(dt, sim.time() - t0);
+      if (statistic(sim, "phase_change", "evaporated") > 0) first = sim.time();
+    }
+    fmt::print("latent heat, cfl {}: the site evaporates at {:.4f} s (t* = {} s, steps up to {:.4f} s)\n", cfl, first, tStar, dt);
+    // Within one step of t* (the store is filled at the end of the step that crosses it).
+    EXPECT_GE(first, tStar - 1e-9) << cfl;
+    EXPECT_LE(first, tStar + dt + 1e-9) << cfl;
+    // Condensing gives the latent heat back: vapour cooled to 50 deg C condenses at 60.
+    const int water = sim.scene().phaseIndex("water"), vapour = sim.scene().phaseIndex("vapour");
+    std::vector<uint64_t> ids;
+    for (size_t i = 0; i < sim.particles().size(); ++i)
+      if (sim.particles().phase[i] == vapour) {
+        ids.push_back(sim.particles().id[i]);
+        sim.mutableParticles().temperature[i] = 50;
+      }
+    ASSERT_FALSE(ids.empty());
+    sim.step(1.0);
+    for (size_t i = 0; i < sim.particles().size(); ++i)
+      if (std::find(ids.begin(), ids.end(), sim.particles().id[i]) != ids.end()) {
+        EXPECT_EQ(sim.particles().phase[i], water);
+        EXPECT_NEAR(sim.particles().temperature[i], 60.0, 1.0);  // 50 + 10, and one step of the heater (<= 70 K/s x dt)
+      }
+  }
+  Simulation plain(parseScene(boilingPool(106.0, heater), "latent.toml"));
+  plain.step(1.0);
+  EXPECT_GE(statistic(plain, "phase_change", "evaporated"), 1.0);
 }
 
 TEST(Boiling, BitIdenticalAcrossThreadsAndAfterResume) {
