@@ -1,5 +1,6 @@
 // [render] of a scene file: image, camera, sky, light, table, and the materials of phases and
-// solids (defaults by fluid name, so that a scene needs no [render] table to render well).
+// solids (defaults by what the effects make of each phase, so that a scene needs no [render]
+// table to render well).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -12,25 +13,37 @@ namespace mf::scene_reading {
 
 namespace {
 
-/// Good looks for common fluid names, so that a scene needs no [render] table to render well.
-/// `otherLiquid` counts the liquids before this one that no name matched: the first is clear
-/// water, the next ones dyed, so that two fluids are told apart in a frame without materials
-/// (two_fluids_mixed's "light" and "heavy" both rendered as water).
-MaterialSpec defaultPhaseMaterial(const std::string& name, int& otherLiquid) {
+/// What the scene's effects make of a phase decides its default look, not its name.
+enum class PhaseRole { Liquid, Gas, Flame };
+
+/// The gas that trapped air or boiling makes, or that artificial buoyancy lifts, is a bubble;
+/// the flame that heats a glass glows; every other phase is a liquid.
+std::vector<PhaseRole> phaseRoles(const Scene& sc) {
+  std::vector<PhaseRole> roles(sc.phases.size(), PhaseRole::Liquid);
+  auto mark = [&](Real phase, PhaseRole role) {
+    const size_t p = size_t(phase);
+    if (p < roles.size() && roles[p] != PhaseRole::Flame) roles[p] = role;
+  };
+  for (const EffectSpec& e : sc.effects) {
+    if (e.name == "trapped_air") mark(e.number("air"), PhaseRole::Gas);
+    if (e.name == "phase_change") mark(e.number("vapour"), PhaseRole::Gas);
+    if (e.name == "buoyancy")
+      for (const ParamValues& gas : e.list("gas")) mark(gas.number("phase"), PhaseRole::Gas);
+  }
+  for (const EffectSpec& e : sc.effects)
+    if (e.name == "flame_heating" && size_t(e.number("flame")) < roles.size()) roles[size_t(e.number("flame"))] = PhaseRole::Flame;
+  return roles;
+}
+
+/// A look for each role, so that a scene needs no [render] table to render well. `liquids`
+/// counts the liquids before this one: the first is clear water, the next ones dyed, so that
+/// two fluids are told apart in a frame without materials.
+MaterialSpec defaultPhaseMaterial(PhaseRole role, int& liquids) {
   MaterialSpec m;
-  auto has = [&](const char* w) { return name.find(w) != std::string::npos; };
-  if (has("oil")) {
-    m.ior = 1.47;
-    m.absorption = {1.0, 3.0, 25.0};  // yellow
-  } else if (has("air") || has("vapour") || has("vapor") || has("bubble")) {
+  if (role == PhaseRole::Gas) {
     m.ior = 1.0;
     m.priority = 20;  // a bubble inside water wins over the water around it
-  } else if (has("wax") || has("lava")) {
-    m.kind = MaterialSpec::Kind::Medium;
-    m.ior = 1.44;
-    m.absorption = {2.0, 30.0, 40.0};  // red-orange
-    m.scattering = 150;
-  } else if (has("flame")) {
+  } else if (role == PhaseRole::Flame) {
     // A glowing volume with an invisible boundary (n = 1), not an opaque surface: per metre
     // about a 1 300 K flame's orange.
     m.ior = 1.0;
@@ -44,7 +57,7 @@ MaterialSpec defaultPhaseMaterial(const std::string& name, int& otherLiquid) {
                                  {20.0, 1.0, 14.0},   // green
                                  {10.0, 28.0, 1.5}};  // violet
     m.ior = 1.33;
-    m.absorption = kDyes[size_t(otherLiquid++) % (sizeof(kDyes) / sizeof(kDyes[0]))];
+    m.absorption = kDyes[size_t(liquids++) % (sizeof(kDyes) / sizeof(kDyes[0]))];
   }
   return m;
 }
@@ -217,8 +230,8 @@ void readCameraKeys(Reader& r, TableReader& t, RenderSettings& o, bool staticCam
 /// See scene_reader.h.
 void readRender(Reader& r, TableReader& top, Scene& sc) {
   RenderSettings& o = sc.render;
-  int otherLiquid = 0;
-  for (const auto& p : sc.phases) o.phaseMaterials.push_back(defaultPhaseMaterial(p.name, otherLiquid));
+  int liquids = 0;
+  for (PhaseRole role : phaseRoles(sc)) o.phaseMaterials.push_back(defaultPhaseMaterial(role, liquids));
   o.solidMaterials.assign(sc.solids.size(), defaultSolidMaterial());
   TableReader t(r, top.table("render"), "render");
   o.width = t.integer("width", o.width, 8, 16384, "pixels");

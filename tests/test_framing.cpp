@@ -150,3 +150,50 @@ TEST(CameraKeys, BadKeysAreNamedWithTheirKey) {
                                     {"render.camera_position=[1,1,1]"});
   EXPECT_NE(both.find("not both"), std::string::npos) << both;
 }
+
+TEST(DefaultMaterials, FollowWhatTheEffectsMakeOfAPhaseNotItsName) {
+  // A gas named "foo" that buoyancy lifts is a bubble; a liquid named "oil" without a material
+  // is the second liquid, dyed red (names carry no look); the first liquid is water.
+  const char* text = R"(
+[scene]
+name = "roles"
+domain_min = [0.0, 0.0, 0.0]
+domain_max = [0.1, 0.1, 0.1]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+[[phase]]
+name = "foo"
+rest_density = 100.0
+[[phase]]
+name = "oil"
+rest_density = 800.0
+[[fluid]]
+phase = "water"
+min = [0.0, 0.0, 0.0]
+max = [0.05, 0.05, 0.05]
+[effects.gravity]
+[effects.buoyancy]
+[[effects.buoyancy.gas]]
+phase = "foo"
+coefficient = 1.0
+)";
+  const mf::Scene sc = mf::parseScene(text, "roles.toml", {"solver.pressure=\"dfsph\""});
+  const auto& m = sc.render.phaseMaterials;
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m[0].ior, 1.33);
+  EXPECT_EQ(m[0].absorption.y, 1.2);  // water's faint blue-green
+  EXPECT_EQ(m[1].ior, 1.0);
+  EXPECT_EQ(m[1].priority, 20);  // the bubble wins where it overlaps the water
+  EXPECT_EQ(m[2].ior, 1.33);
+  EXPECT_EQ(m[2].absorption.y, 18.0);  // red: told apart from the water
+  // The shipped scenes: pour_glass's trapped air and boiling's vapour are bubbles, boiling's
+  // flame glows behind an invisible boundary.
+  const mf::Scene pour = mf::loadScene("pour_glass"), boil = mf::loadScene("boiling");
+  EXPECT_EQ(pour.render.phaseMaterials.at(size_t(pour.phaseIndex("air"))).priority, 20);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("vapour"))).priority, 20);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("flame"))).ior, 1.0);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("flame"))).priority, 5);
+}

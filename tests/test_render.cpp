@@ -311,6 +311,9 @@ fov = 35
 light_position = [-0.3, 0.5, 0.3]
 light_radius = 0.08
 checker_size = 0.02
+[render.material.air]
+ior = 1.0
+priority = 20
 )";
   const Scene sc = parseScene(text, "bubble");
   auto water = openvdb::tools::createLevelSetBox<openvdb::FloatGrid>(
@@ -368,6 +371,11 @@ checker_size = 0.0
 [render.material.fluid]
 ior = 1.34
 absorption = [0.3, 0.6, 0.2]
+[render.material.wax]
+kind = "medium"
+ior = 1.44
+absorption = [2.0, 30.0, 40.0]
+scattering = 150.0
 [render.material.vessel]
 thickness = 0.006
 )";
