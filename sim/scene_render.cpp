@@ -20,18 +20,28 @@ enum class PhaseRole { Liquid, Gas, Flame };
 /// the flame that heats a glass glows; every other phase is a liquid.
 std::vector<PhaseRole> phaseRoles(const Scene& sc) {
   std::vector<PhaseRole> roles(sc.phases.size(), PhaseRole::Liquid);
+  // A phase key the reader could not resolve holds -1, or is absent (its problem is already
+  // reported): it marks nothing.
+  auto phaseOf = [](const ParamValues& v, const char* key) {
+    const auto it = v.params.find(key);
+    return it == v.params.end() || it->second.empty() ? Real(-1) : it->second[0];
+  };
   auto mark = [&](Real phase, PhaseRole role) {
-    const size_t p = size_t(phase);
-    if (p < roles.size() && roles[p] != PhaseRole::Flame) roles[p] = role;
+    if (!(phase >= 0 && phase < Real(roles.size()))) return;
+    PhaseRole& r = roles[size_t(phase)];
+    if (r != PhaseRole::Flame) r = role;
   };
   for (const EffectSpec& e : sc.effects) {
-    if (e.name == "trapped_air") mark(e.number("air"), PhaseRole::Gas);
-    if (e.name == "phase_change") mark(e.number("vapour"), PhaseRole::Gas);
+    if (e.name == "trapped_air") mark(phaseOf(e, "air"), PhaseRole::Gas);
+    if (e.name == "phase_change") mark(phaseOf(e, "vapour"), PhaseRole::Gas);
     if (e.name == "buoyancy")
-      for (const ParamValues& gas : e.list("gas")) mark(gas.number("phase"), PhaseRole::Gas);
+      for (const ParamValues& gas : e.list("gas")) mark(phaseOf(gas, "phase"), PhaseRole::Gas);
   }
   for (const EffectSpec& e : sc.effects)
-    if (e.name == "flame_heating" && size_t(e.number("flame")) < roles.size()) roles[size_t(e.number("flame"))] = PhaseRole::Flame;
+    if (e.name == "flame_heating") {
+      const Real f = phaseOf(e, "flame");
+      if (f >= 0 && f < Real(roles.size())) roles[size_t(f)] = PhaseRole::Flame;
+    }
   return roles;
 }
 
