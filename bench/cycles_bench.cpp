@@ -31,16 +31,18 @@
 #include <regex>
 #include <sstream>
 #include <string>
-#include <unistd.h>
-
 #include <vector>
 
+#include <unistd.h>
+
+#include "bench/rel_rmse.h"
 #include "pipeline/process.h"
 #include "render/image.h"
 
 namespace fs = std::filesystem;
 using mf::pipeline::runProgram;
 using mf::pipeline::SpawnOptions;
+using mf::bench::relRmse;
 
 namespace {
 
@@ -73,16 +75,6 @@ void run(const std::vector<std::string>& argv, const std::string& log) {
   o.timeoutSeconds = 7200;
   if (runProgram(argv, o) != 0)
     throw std::runtime_error(fmt::format("{} failed; see {}.err:\n{}", argv[0], log, slurp(log + ".err").substr(0, 2000)));
-}
-
-double relRmse(const mf::render::Image& x, const mf::render::Image& r) {
-  if (x.width != r.width || x.height != r.height) throw std::runtime_error("images of different sizes");
-  double sum = 0;
-  for (size_t i = 0; i < r.rgb.size(); ++i) {
-    const double d = double(x.rgb[i]) - r.rgb[i];
-    sum += d * d / (double(r.rgb[i]) * r.rgb[i] + 0.01);
-  }
-  return std::sqrt(sum / double(r.rgb.size()));
 }
 
 struct Render {

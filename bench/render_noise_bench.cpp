@@ -33,6 +33,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "bench/rel_rmse.h"
 #include "render/denoise.h"
 #include "render/path_tracer.h"
 #include "sim/scene_file.h"
@@ -184,15 +185,10 @@ struct Error {
 
 Error measure(const render::Image& x, const render::Image& r) {
   Error e;
-  double sum = 0;
   size_t lit = 0, black = 0;
-  for (size_t i = 0; i < r.rgb.size(); ++i) {
-    const double d = double(x.rgb[i]) - r.rgb[i];
-    sum += d * d / (double(r.rgb[i]) * r.rgb[i] + 0.01);
-    e.relMae += std::abs(d) / (std::abs(double(r.rgb[i])) + 0.1);
-  }
+  for (size_t i = 0; i < r.rgb.size(); ++i) e.relMae += std::abs(double(x.rgb[i]) - r.rgb[i]) / (std::abs(double(r.rgb[i])) + 0.1);
   e.relMae /= r.rgb.size();
-  e.relRmse = std::sqrt(sum / r.rgb.size());
+  e.relRmse = bench::relRmse(x, r);
   for (size_t p = 0; p < r.rgb.size() / 3; ++p) {
     const double lr = luminance(r, p);
     if (lr <= 0.02) continue;

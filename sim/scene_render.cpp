@@ -26,22 +26,19 @@ std::vector<PhaseRole> phaseRoles(const Scene& sc) {
     const auto it = v.params.find(key);
     return it == v.params.end() || it->second.empty() ? Real(-1) : it->second[0];
   };
+  // The flame's role wins over the gas's (boiling's buoyancy lifts its flames too).
   auto mark = [&](Real phase, PhaseRole role) {
     if (!(phase >= 0 && phase < Real(roles.size()))) return;
     PhaseRole& r = roles[size_t(phase)];
-    if (r != PhaseRole::Flame) r = role;
+    if (role == PhaseRole::Flame || r != PhaseRole::Flame) r = role;
   };
   for (const EffectSpec& e : sc.effects) {
     if (e.name == "trapped_air") mark(phaseOf(e, "air"), PhaseRole::Gas);
     if (e.name == "phase_change") mark(phaseOf(e, "vapour"), PhaseRole::Gas);
+    if (e.name == "flame_heating") mark(phaseOf(e, "flame"), PhaseRole::Flame);
     if (e.name == "buoyancy")
       for (const ParamValues& gas : e.list("gas")) mark(phaseOf(gas, "phase"), PhaseRole::Gas);
   }
-  for (const EffectSpec& e : sc.effects)
-    if (e.name == "flame_heating") {
-      const Real f = phaseOf(e, "flame");
-      if (f >= 0 && f < Real(roles.size())) roles[size_t(f)] = PhaseRole::Flame;
-    }
   return roles;
 }
 
