@@ -44,6 +44,7 @@ end_time = 100.0
 domain_min = [-0.05, -0.05, -0.05]
 domain_max = [{d}, {d}, {d}]
 [solver]
+pressure = "wcsph"
 particle_spacing = 0.01
 density_formulation = "number"
 [[phase]]

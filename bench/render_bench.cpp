@@ -39,7 +39,6 @@ particle_spacing = 0.01
 [[phase]]
 name = "water"
 rest_density = 1000.0
-stiffness = 1000.0
 [[solid]]
 name = "glass"
 shape = "cylinder"

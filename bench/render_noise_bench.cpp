@@ -54,7 +54,6 @@ particle_spacing = 0.01
 [[phase]]
 name = "water"
 rest_density = 1000.0
-stiffness = 1000.0
 [[solid]]
 name = "glass"
 shape = "cylinder"
@@ -92,11 +91,9 @@ particle_spacing = 0.02
 [[phase]]
 name = "fluid"
 rest_density = 500.0
-stiffness = 1000.0
 [[phase]]
 name = "wax"
 rest_density = 1000.0
-stiffness = 1000.0
 [[solid]]
 name = "vessel"
 shape = "revolution"

@@ -30,6 +30,7 @@ end_time = {end}
 domain_min = [{lo}, {lo}, {lo}]
 domain_max = [{hx}, {hy}, {hx}]
 [solver]
+pressure = "wcsph"
 particle_spacing = {s}
 [[phase]]
 name = "water"

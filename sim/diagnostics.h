@@ -12,7 +12,7 @@ namespace mf {
 class Simulation;
 struct Scene;
 
-/// Water (rho0 1000, k 1000, mu 0.1) in a closed box 0.1 x 0.2 x 0.1 m, all lengths times
+/// Water (rho0 1000, k 1000, mu 0.1; WCSPH unless overridden) in a closed box 0.1 x 0.2 x 0.1 m, all lengths times
 /// `scale`: `still` fills it 0.1 m deep at rest; otherwise a 0.1 m block starts 0.05 m above the
 /// floor moving down at 2 m/s (the drop). Speeds and `endTime` are scaled by sqrt(scale) (Froude
 /// similarity: the same flow at another size; stiffness, viscosity and time-step rules stay).

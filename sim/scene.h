@@ -123,13 +123,19 @@ enum class DensityFormulation {
   Number,  // rho_i = m_i sum_j W_ij (Solenthaler & Pajarola 2008): sharp at density jumps
 };
 
+/// The error for a WCSPH-only key in a scene that names no solver (and so runs on DFSPH).
+inline constexpr const char* kWcsphKeyUnnamed =
+    "is read only by the weakly compressible solver, and the scene names no solver.pressure (the default is "
+    "\"dfsph\"): set solver.pressure = \"wcsph\" to keep the state equation, or remove it";
+
 enum class PressureSolverChoice {
   WCSPH,  // state equation P = k (rho - rho0) and the pressure effect's force (Mueller et al. 2005)
   DFSPH,  // implicit, divergence-free and constant-density solves (sim/pressure/dfsph.h)
 };
 
 struct SolverSettings {
-  PressureSolverChoice pressure = PressureSolverChoice::WCSPH;
+  PressureSolverChoice pressure = PressureSolverChoice::DFSPH;
+  bool pressureNamed = false;  // the scene (or an override) names solver.pressure: WCSPH-only keys are then its choice
   // DFSPH: stop at this mean relative density error, and mean divergence error per step.
   Real densityTolerance = 5e-4, divergenceTolerance = 1e-3;
   int maxPressureIterations = 100;

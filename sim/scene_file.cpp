@@ -145,7 +145,8 @@ void applyOverride(toml::table& root, const std::string& assignment, const std::
 }
 
 void readSolver(TableReader& s, SolverSettings& o) {
-  o.pressure = s.text("pressure", "wcsph", {"wcsph", "dfsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
+  o.pressureNamed = s.has("pressure");
+  o.pressure = s.text("pressure", "dfsph", {"dfsph", "wcsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
   o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
   o.divergenceTolerance = s.number("divergence_tolerance", o.divergenceTolerance, 1e-6, 0.1, "(relative, per step)", false);
   o.maxPressureIterations = s.integer("max_pressure_iterations", o.maxPressureIterations, 2, 10000);
@@ -331,6 +332,7 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       // Only the weakly compressible solver has a stiffness; DFSPH's pressure is implicit.
       const bool wcsph = sc.solver.pressure == PressureSolverChoice::WCSPH;
       p.stiffness = t.number("stiffness", p.stiffness, 0, 1e10, "m^2/s^2", true, wcsph);
+      if (!sc.solver.pressureNamed && t.has("stiffness")) r.problem(t.node("stiffness"), t.path("stiffness"), kWcsphKeyUnnamed);
       p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
       p.particleMass = t.number("particle_mass", p.particleMass, 0, 1e6, "kg (0 = from rest density and spacing)");
       p.interfaceColour = t.number("interface_colour", p.interfaceColour, -10, 10);

@@ -34,6 +34,7 @@ end_time = 1.0
 domain_min = [-0.05, -0.05, -0.05]
 domain_max = [0.21, 0.4, 0.21]
 [solver]
+pressure = "wcsph"  # as pour_glass ships: on DFSPH the jet below traps 9 air particles, not 10 (docs/pressure_solvers.md)
 particle_spacing = 0.01
 density_formulation = "number"
 max_dt = 0.002
@@ -95,14 +96,12 @@ max_dt = 0.002
 [[phase]]
 name = "water"
 rest_density = 1000.0
-stiffness = 400.0
 viscosity = 0.1
 [[fluid]]
 phase = "water"
 min = [-0.03, 0.3, -0.03]
 max = [0.03, 0.36, 0.03]
 [effects.gravity]
-[effects.pressure]
 [effects.viscosity]
 [effects.emitter]
 [[effects.emitter.disc]]

@@ -39,12 +39,10 @@ max_dt = 0.002
 [[phase]]
 name = "water"
 rest_density = 1000.0
-stiffness = 400.0
 viscosity = 0.2
 [[phase]]
 name = "vapour"
 rest_density = 300.0
-stiffness = 400.0
 viscosity = 0.02
 [[solid]]
 name = "tank"
@@ -58,7 +56,6 @@ min = [0.0, 0.0, 0.0]
 max = [0.12, 0.08, 0.12]
 temperature = {}
 [effects.gravity]
-[effects.pressure]
 [effects.viscosity]
 [effects.phase_change]
 liquid = "water"

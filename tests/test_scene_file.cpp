@@ -14,6 +14,7 @@ frame_rate = 30
 domain_min = [0.0, 0.0, 0.0]
 domain_max = [1.0, 1.0, 1.0]
 [solver]
+pressure = "wcsph"
 particle_spacing = 0.05
 [[phase]]
 name = "water"
@@ -56,10 +57,29 @@ TEST(SceneFile, OutOfRangeValueNamesFileLineKeyAndRange) {
   const auto p = problemsOf(replaceLine(kGood, "stiffness = 1000.0", "stiffness = -5.0"));
   ASSERT_EQ(p.size(), 1u);
   EXPECT_EQ(p[0].file, "bad.toml");
-  EXPECT_EQ(p[0].line, 12);
+  EXPECT_EQ(p[0].line, 13);
   EXPECT_EQ(p[0].key, "phase[0].stiffness");
   EXPECT_NE(p[0].message.find("(0, 1e+10] m^2/s^2"), std::string::npos) << p[0].message;
-  EXPECT_EQ(p[0].str().rfind("bad.toml:12: key 'phase[0].stiffness': value -5 outside the allowed range", 0), 0u) << p[0].str();
+  EXPECT_EQ(p[0].str().rfind("bad.toml:13: key 'phase[0].stiffness': value -5 outside the allowed range", 0), 0u) << p[0].str();
+}
+
+// DFSPH is the default: a scene that names no solver but carries the state equation's keys was
+// written for WCSPH, and is refused rather than run silently on another solver.
+TEST(SceneFile, WcsphKeysInASceneThatNamesNoSolverAreRefused) {
+  const auto p = problemsOf(replaceLine(kGood, "pressure = \"wcsph\"\n", ""));
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p[0].str().rfind("bad.toml:12: key 'phase[0].stiffness': is read only by the weakly compressible solver", 0), 0u)
+      << p[0].str();
+  EXPECT_NE(p[0].message.find("set solver.pressure = \"wcsph\""), std::string::npos) << p[0].message;
+  EXPECT_EQ(p[1].key, "effects.pressure.reference_density");
+  EXPECT_EQ(p[1].line, 18);  // the table's line: the key is missing
+  // Named, either way, the scene is the user's choice: DFSPH then leaves the stiffness unread.
+  EXPECT_TRUE(problemsOf(kGood).empty());
+  EXPECT_TRUE(problemsOf(kGood, {"solver.pressure=\"dfsph\""}).empty());
+  // Without them it runs on DFSPH.
+  const std::string plain = replaceLine(replaceLine(replaceLine(kGood, "pressure = \"wcsph\"\n", ""), "stiffness = 1000.0\n", ""),
+                                        "[effects.pressure]\n", "");
+  EXPECT_EQ(mf::parseScene(plain, "plain.toml").solver.pressure, mf::PressureSolverChoice::DFSPH);
 }
 
 TEST(SceneFile, EveryProblemIsReported) {

@@ -7,6 +7,7 @@
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "tests/env_overrides.h"
 #include "sim/solids.h"
 
 namespace {
@@ -90,7 +91,7 @@ Crossings throwIntoContainers(const std::string& containers, const std::vector<s
   const auto rimLeavers = uint64_t(std::count(overTheRim.begin(), overTheRim.end(), 1));
   EXPECT_EQ(sim.particles().size() + sim.counters().removedOutOfDomain, n0);
   EXPECT_LE(sim.counters().removedOutOfDomain, rimLeavers);
-  std::printf("containers (%s): %llu over the rim, %llu clamps\n", overrides.empty() ? "wcsph" : overrides[0].c_str(),
+  std::printf("containers (%s): %llu over the rim, %llu clamps\n", overrides[0].c_str(),
               static_cast<unsigned long long>(rimLeavers), static_cast<unsigned long long>(sim.counters().wallClamps));
   return {escaped, sim.counters().wallClamps};
 }
@@ -98,7 +99,7 @@ Crossings throwIntoContainers(const std::string& containers, const std::vector<s
 TEST(Scenes, FluidNeverCrossesContainerWalls) {
   // WCSPH: the splash reaches the walls hard enough for the last-resort clamp to act, so the
   // test exercises the clamp rather than passing because nothing came near a wall.
-  const Crossings wcsph = throwIntoContainers(kGlass + kVessel, {});
+  const Crossings wcsph = throwIntoContainers(kGlass + kVessel, {"solver.pressure=\"wcsph\""});
   EXPECT_EQ(wcsph.escaped, 0u);
   EXPECT_GT(wcsph.clamps, 0u);
 }
@@ -115,7 +116,9 @@ TEST(Scenes, DfsphHoldsASplashInTheGlassWithoutAClamp) {
 
 TEST(Scenes, TwoFluidsMixedLightFluidEndsOnTop) {
   // The shipped scene at half its resolution (3000 particles) and 2.5 s.
-  const mf::Scene scene = mf::loadScene("two_fluids_mixed", {"solver.particle_spacing=0.01", "scene.end_time=2.5"});
+  std::vector<std::string> sets = {"solver.particle_spacing=0.01", "scene.end_time=2.5"};
+  for (const std::string& s : mf::test::overridesFromEnv("MF_TWO_FLUIDS_SET")) sets.push_back(s);  // hand-run trials
+  const mf::Scene scene = mf::loadScene("two_fluids_mixed", sets);
   mf::Simulation sim(scene);
   const int light = scene.phaseIndex("light"), heavy = scene.phaseIndex("heavy");
   auto meanHeight = [&](int phase) {

@@ -182,6 +182,14 @@ EffectInfo pressureInfo() {
     const EffectSpec* g = scene.effect("gravity");
     if (spec.number("reference_density") > 0 && (!g || lengthSquared(g->vector("acceleration")) == 0))
       problems.push_back({"reference_density", "has no effect without [effects.gravity] (a hydrostatic reference needs gravity)"});
+    // A scene that names no solver runs on DFSPH, whose implicit solve is the pressure force:
+    // WCSPH's keys there say the scene was written for the state equation.
+    if (scene.solver.pressure == PressureSolverChoice::DFSPH && !scene.solver.pressureNamed) {
+      if (spec.number("wall_scale") != 1) problems.push_back({"wall_scale", kWcsphKeyUnnamed});
+      if (spec.number("gradient_correction") != 0) problems.push_back({"gradient_correction", kWcsphKeyUnnamed});
+      if (spec.number("reference_density") == 0)
+        problems.push_back({"reference_density", std::string("missing, and [effects.pressure] without it ") + kWcsphKeyUnnamed});
+    }
     return problems;
   };
   return info;
