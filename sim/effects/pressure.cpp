@@ -188,7 +188,7 @@ EffectInfo pressureInfo() {
       if (spec.number("wall_scale") != 1) problems.push_back({"wall_scale", kWcsphKeyUnnamed});
       if (spec.number("gradient_correction") != 0) problems.push_back({"gradient_correction", kWcsphKeyUnnamed});
       if (spec.number("reference_density") == 0)
-        problems.push_back({"reference_density", std::string("missing, and [effects.pressure] without it ") + kWcsphKeyUnnamed});
+        problems.push_back({"reference_density", std::string("missing: without it the table ") + kWcsphKeyUnnamed});
     }
     return problems;
   };
