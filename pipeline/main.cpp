@@ -258,7 +258,7 @@ int validate(const Options& opt) {
   fmt::print("{}: valid scene '{}', {} phase(s), {} solid(s), {} fluid block(s), effects:", scene.sourceFile, scene.name,
              scene.phases.size(), scene.solids.size(), scene.fluids.size());
   for (const auto& e : scene.effects) fmt::print(" {}", e.name);
-  fmt::print("\n  estimate: {:.0f} particles, {:.0f} boundary samples, {:.0f} MiB at most; dt {:.3g} s at rest ({}), {:.0f} steps per frame\n",
+  fmt::print("\n  estimate: {:.0f} particles, {:.0f} boundary samples, {:.0f} MiB at most; dt {:.3g} s at rest, set by {}; {:.0f} steps per frame\n",
              b.particles, b.boundarySamples, b.memoryBytes / (1024.0 * 1024.0), b.restTimeStep, b.timeStepLimiter, b.stepsPerFrame);
   return 0;
 }

@@ -147,7 +147,7 @@ struct TimeStepLimit {
 TimeStepLimit restTimeStep(const Scene& sc) {
   TimeStepLimit t;
   const Real s = sc.solver.particleSpacing, h = sc.solver.smoothingRatio * s;
-  t.offer(sc.solver.maxDt, "solver.max_dt", "solver.max_dt");
+  t.offer(sc.solver.maxDt, "the largest step allowed", "solver.max_dt");
   if (sc.solver.pressure == PressureSolverChoice::DFSPH) {
     // The flow sets DFSPH's step (cfl spacing / v_max). A fluid seeded at rest still falls: take
     // the speed of a fall through its own height, sqrt(2 g H), or the seeded speed if faster.
