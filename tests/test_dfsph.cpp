@@ -151,8 +151,9 @@ struct Layers {
 
 Layers layersAtRest(int ratio) {
   std::string text = kStillTank;
-  text.replace(text.find("max = [0.2, 0.1, 0.2]"), 21, "max = [0.2, 0.05, 0.2]");
-  text.replace(text.find("pressure = \"dfsph\"\n"), 19, "density_formulation = \"number\"\n");
+  auto replace = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+  replace("max = [0.2, 0.1, 0.2]", "max = [0.2, 0.05, 0.2]");  // the water: its lower half
+  replace("pressure = \"dfsph\"\n", "density_formulation = \"number\"\n");  // the default solver
   text += fmt::format("[[phase]]\nname = \"light\"\nrest_density = {}\nviscosity = 0.0001\n", 1000.0 / ratio);
   text += "[[fluid]]\nphase = \"light\"\nmin = [0.0, 0.05, 0.0]\nmax = [0.2, 0.1, 0.2]\n";
   mf::Simulation sim(mf::parseScene(text, "layers.toml"));
