@@ -176,6 +176,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
   const uint64_t steps0 = sim.stepCount();
   const double time0 = sim.time();
   const uint64_t iterations0 = sim.counters().pressureIterations + sim.counters().divergenceIterations;
+  const uint64_t passes0 = sim.counters().compressionPasses;
   double particleSteps = 0;
   const StopSignals stopSignals;
   const auto loopStart = Clock::now();
@@ -242,8 +243,9 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
       c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError,
       scene.solver.pressure == PressureSolverChoice::WCSPH
           ? std::string("pressure: wcsph")
-          : fmt::format("pressure: dfsph ({}), {:.1f} iterations per step", scene.solver.conjugateGradient ? "cg" : "jacobi",
-                        steps ? double(c.pressureIterations + c.divergenceIterations - iterations0) / double(steps) : 0.0),
+          : fmt::format("pressure: dfsph ({}), {:.1f} iterations per step, {} compression passes", scene.solver.conjugateGradient ? "cg" : "jacobi",
+                        steps ? double(c.pressureIterations + c.divergenceIterations - iterations0) / double(steps) : 0.0,
+                        c.compressionPasses - passes0),
       sim.time() > time0 ? tSim / (sim.time() - time0) : 0.0) + [&] {
         std::string w;
         for (const std::string& line : runWarnings(sim, seeded)) w += "  warning: " + line + "\n";

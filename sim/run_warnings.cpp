@@ -28,7 +28,7 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
     w.push_back(fmt::format("the most compressed particle reached {:.1f} % (over 10 %: the volume is not kept there; {})",
                             100 * c.maxDensityError,
                             scene.solver.pressure == PressureSolverChoice::WCSPH ? "raise the phases' stiffness, or use solver.pressure = \"dfsph\""
-                                                                                 : "lower solver.cfl or solver.density_tolerance"));
+                                                                                 : "lower solver.max_compression or solver.cfl"));
   // Per phase, against all it ever had (seeded and born): flames an emitter makes and pushes out
   // are named as flames, not counted against the water.
   const auto& left = sim.leftDomainByPhase();

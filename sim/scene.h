@@ -139,6 +139,9 @@ struct SolverSettings {
   // DFSPH: stop at this mean relative density error, and mean divergence error per step.
   Real densityTolerance = 5e-4, divergenceTolerance = 1e-3;
   int maxPressureIterations = 100;
+  // DFSPH: a step that leaves a particle compressed by more than this (relative) repeats the
+  // constant-density solve at the positions it reached, up to three times.
+  Real maxCompression = 0.05;
   // DFSPH's linear iteration: conjugate gradients on the active set, or projected Jacobi.
   bool conjugateGradient = true;
   Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid

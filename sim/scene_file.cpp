@@ -149,6 +149,7 @@ void readSolver(TableReader& s, SolverSettings& o) {
   o.pressure = s.text("pressure", "dfsph", {"dfsph", "wcsph"}) == "dfsph" ? PressureSolverChoice::DFSPH : PressureSolverChoice::WCSPH;
   o.densityTolerance = s.number("density_tolerance", o.densityTolerance, 1e-6, 0.1, "(relative)", false);
   o.divergenceTolerance = s.number("divergence_tolerance", o.divergenceTolerance, 1e-6, 0.1, "(relative, per step)", false);
+  o.maxCompression = s.number("max_compression", o.maxCompression, 1e-4, 1, "(relative)", false);
   o.maxPressureIterations = s.integer("max_pressure_iterations", o.maxPressureIterations, 2, 10000);
   o.conjugateGradient = s.text("pressure_iteration", "cg", {"cg", "jacobi"}) == "cg";
   o.particleSpacing = s.number("particle_spacing", o.particleSpacing, 1e-5, 10, "m", true, true);

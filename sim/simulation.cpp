@@ -143,6 +143,7 @@ Simulation::Simulation(const Scene& scene)
     ds.densityTolerance = st.densityTolerance;
     ds.divergenceTolerance = st.divergenceTolerance;
     ds.maxIterations = st.maxPressureIterations;
+    ds.maxCompression = st.maxCompression;
     ds.conjugateGradient = st.conjugateGradient;
     ds.wallFactor = wall0.mirrorFactor;
     // The pressure table's hydrostatic reference carries over to the implicit solve (not while

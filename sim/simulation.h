@@ -38,6 +38,7 @@ struct SimulationCounters {
   // DFSPH (solver.pressure = "dfsph"): Jacobi iterations of the two solves, summed over steps,
   // and the last step's mean errors after them.
   uint64_t pressureIterations = 0, divergenceIterations = 0;
+  uint64_t compressionPasses = 0;  // constant-density solves redone at the moved positions
   Real lastDensityError = 0, lastDivergenceError = 0;
 };
 
@@ -142,6 +143,7 @@ class Simulation {
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Vec3> savedPosition_, savedVelocity_;  // watchdog snapshot
+  std::vector<Vec3> compressionVelocity_;            // DFSPH's second pass on compression
   Real time_ = 0;
   uint64_t nextId_ = 0;
   SimulationCounters counters_;

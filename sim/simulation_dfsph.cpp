@@ -15,6 +15,13 @@
 
 namespace mf {
 
+namespace {
+// Gauss-Newton passes on the move's compression per step. Each takes off about two thirds of the
+// worst compression (the reference dam break's 33.6 % peak: 10.0 % after one pass, 4.2 % after
+// two, at a 1 % bound).
+constexpr int kCompressionPasses = 3;
+}
+
 void Simulation::seedHydrostaticPressure() {
   // The solver's warm start begins at the weight of the fluid above each particle, p_i = |g|
   // (sum of m_j / s^2 over its lattice column above, plus half its own), so a fluid seeded at
@@ -78,6 +85,18 @@ Real Simulation::stepDfsph(Real maxDt) {
     times_.pressure += since(t0);
     advect(dt, savedPosition_);
     searchAndDensity();
+    // The solve above is linear in the move; where a particle still ends compressed past its
+    // bound, solve again at the positions reached and redo the move with the corrected velocity.
+    for (int pass = 0; pass < kCompressionPasses && density.converged && dfsph_->overCompressed(ps_); ++pass) {
+      const auto c0 = Clock::now();
+      const PressureSolveStats correction = dfsph_->solveCompression(context(), ps_, dt, compressionVelocity_);
+      times_.pressure += since(c0);
+      counters_.pressureIterations += uint64_t(correction.iterations);
+      ++counters_.compressionPasses;
+      for (size_t i = 0; i < ps_.size(); ++i) ps_.velocity[i] += compressionVelocity_[i];
+      advect(dt, savedPosition_);
+      searchAndDensity();
+    }
     const auto t1 = Clock::now();
     const PressureSolveStats divergence = dfsph_->solveDivergence(context(), ps_, dt);
     times_.pressure += since(t1);

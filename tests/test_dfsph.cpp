@@ -139,6 +139,11 @@ TEST(Dfsph, DamBreakNeedsNoWallClamp) {
   for (int frame = 1; frame <= 18; ++frame) sim.advanceTo(frame / 30.0);
   EXPECT_EQ(sim.counters().wallClamps, 0u);
   EXPECT_EQ(sim.particles().size(), 8192u);
+  // The linear solve alone left a particle 24.7 % compressed where the front meets the walls;
+  // the passes at the moved positions hold solver.max_compression (5 %), measured 4.92 % in
+  // 214 passes. 1.5 % over the bound allows for the rare step whose third pass still leaves more.
+  EXPECT_LT(sim.counters().maxDensityError, 0.065);
+  EXPECT_GT(sim.counters().compressionPasses, 0u);
 }
 
 // Issue 21: layered fluids at rest stay at rest at 1:10 and 1:1000 (water and air). The still

@@ -245,6 +245,22 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   return stats;
 }
 
+bool DfsphSolver::overCompressed(const ParticleSet& ps) const {
+  return parallelMax(ps.size(), [&](size_t i) { return ps.density[i] / ps.restDensity[i] - 1; }) > settings_.maxCompression;
+}
+
+PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u) {
+  const size_t n = ps.size();
+  u.assign(n, Vec3());
+  correctionPressure_.assign(n, 0);
+  lower_.assign(n, 0);
+  auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
+  std::swap(ps.velocity, u);
+  const PressureSolveStats stats = solve(ctx, ps, correctionPressure_, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  std::swap(ps.velocity, u);
+  return stats;
+}
+
 PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt) {
   lower_.assign(ps.size(), 0);
   // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free surface,

@@ -41,6 +41,7 @@ struct DfsphSettings {
   Real densityTolerance = 5e-4;     // mean (theta* - 1), relative: 0.05 %
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
   int maxIterations = 100;
+  Real maxCompression = 0.05;       // after the move, relative: over it the solve is repeated
   int minIterations = 2;
   bool conjugateGradient = true;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
@@ -67,6 +68,15 @@ class DfsphSolver {
   /// Corrects ps.velocity so that the density does not change (d theta / dt = 0) where the fluid
   /// is at rest density; its pressure is kept in ps.divergencePressure.
   PressureSolveStats solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt);
+
+  /// Whether a particle is compressed by more than maxCompression at the current positions.
+  bool overCompressed(const ParticleSet& ps) const;
+  /// The constant-density solve once more, at the positions the move reached: one Gauss-Newton
+  /// step on theta(x) = 1. The solve above is linear in the move, and underestimates a close
+  /// approach (a jet into a wall corner leaves a particle tens of per cent compressed). Finds a
+  /// velocity change u, from pressures dp >= 0 that start at zero, with theta + dt d(theta)/dt(u)
+  /// = 1, and returns it in `u`; ps.velocity and ps.pressure are left as they were.
+  PressureSolveStats solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u);
 
   const DfsphSettings& settings() const { return settings_; }
 
@@ -104,6 +114,7 @@ class DfsphSolver {
   std::vector<Real> err_, x_, r_, z_, d_, q_;
   std::vector<char> active_;
   std::vector<Vec3> scratchVelocity_;
+  std::vector<Real> correctionPressure_;
   std::vector<Real> diagonal_, rate_, delta_;
   std::vector<Real> lower_;  // the least pressure each particle may hold (0, or -p_ref)
   std::vector<Vec3> fluidGrad_, wallGrad_;  // per neighbour pair, from computeDiagonal
