@@ -1,5 +1,7 @@
 #include "particles.h"
 
+#include "parallel_util.h"
+
 #include <utility>
 
 namespace mf {
@@ -68,6 +70,10 @@ size_t ParticleSet::memoryBytes() const {
   const_cast<ParticleSet*>(this)->forEachArray(
       [&bytes](const char*, const auto& v) { bytes += v.capacity() * sizeof(v[0]); });
   return bytes;
+}
+
+Real ParticleSet::largestCompression() const {
+  return parallelMax(size(), [&](size_t i) { return density[i] / restDensity[i] - 1; });
 }
 
 }  // namespace mf

@@ -100,6 +100,8 @@ struct ParticleSet {
 
   /// Bytes held by all arrays (capacity), for memory reports and tests.
   size_t memoryBytes() const;
+  /// The largest rho / rho0 - 1 over the particles (0 for none; negative if all are expanded).
+  Real largestCompression() const;
 };
 
 }  // namespace mf

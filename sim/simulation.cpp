@@ -143,7 +143,6 @@ Simulation::Simulation(const Scene& scene)
     ds.densityTolerance = st.densityTolerance;
     ds.divergenceTolerance = st.divergenceTolerance;
     ds.maxIterations = st.maxPressureIterations;
-    ds.maxCompression = st.maxCompression;
     ds.conjugateGradient = st.conjugateGradient;
     ds.wallFactor = wall0.mirrorFactor;
     // The pressure table's hydrostatic reference carries over to the implicit solve (not while
@@ -546,9 +545,7 @@ Real Simulation::step(Real maxDt) {
   time_ += dt;
   ++counters_.steps;
   counters_.lastDt = dt;
-  counters_.maxDensityError = std::max(counters_.maxDensityError, parallelMax(ps_.size(), [&](size_t i) {
-    return ps_.density[i] / ps_.restDensity[i] - 1;
-  }));
+  counters_.maxDensityError = std::max(counters_.maxDensityError, ps_.largestCompression());
   editParticles();
   return dt;
 }

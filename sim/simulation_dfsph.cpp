@@ -87,7 +87,8 @@ Real Simulation::stepDfsph(Real maxDt) {
     searchAndDensity();
     // The solve above is linear in the move; where a particle still ends compressed past its
     // bound, solve again at the positions reached and redo the move with the corrected velocity.
-    for (int pass = 0; pass < kCompressionPasses && density.converged && dfsph_->overCompressed(ps_); ++pass) {
+    for (int pass = 0; pass < kCompressionPasses && density.converged && ps_.largestCompression() > scene_.solver.maxCompression;
+         ++pass) {
       const auto c0 = Clock::now();
       const PressureSolveStats correction = dfsph_->solveCompression(context(), ps_, dt, compressionVelocity_);
       times_.pressure += since(c0);

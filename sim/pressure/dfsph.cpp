@@ -245,10 +245,6 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   return stats;
 }
 
-bool DfsphSolver::overCompressed(const ParticleSet& ps) const {
-  return parallelMax(ps.size(), [&](size_t i) { return ps.density[i] / ps.restDensity[i] - 1; }) > settings_.maxCompression;
-}
-
 PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u) {
   const size_t n = ps.size();
   u.assign(n, Vec3());

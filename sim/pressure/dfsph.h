@@ -25,8 +25,10 @@
 // step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
 // them), iterate at least twice, and stop when the mean density error is below
 // `density_tolerance` (relative) and the mean divergence error times dt below
-// `divergence_tolerance`, and no particle's error is over 20 tolerances. Sums over particles run in fixed blocks, so the bits do not depend on
-// the number of threads.
+// `divergence_tolerance`, and no particle's error is over 20 tolerances. Where a particle still
+// ends a move compressed past `solver.max_compression`, the simulation solves again at the
+// positions reached (solveCompression) and redoes the move. Sums over particles run in fixed
+// blocks, so the bits do not depend on the number of threads.
 #pragma once
 
 #include <string>
@@ -41,7 +43,6 @@ struct DfsphSettings {
   Real densityTolerance = 5e-4;     // mean (theta* - 1), relative: 0.05 %
   Real divergenceTolerance = 1e-3;  // mean d(theta)/dt * dt: 0.1 % per step
   int maxIterations = 100;
-  Real maxCompression = 0.05;       // after the move, relative: over it the solve is repeated
   int minIterations = 2;
   bool conjugateGradient = true;  // else projected Jacobi
   Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
@@ -69,8 +70,6 @@ class DfsphSolver {
   /// is at rest density; its pressure is kept in ps.divergencePressure.
   PressureSolveStats solveDivergence(const StepContext& ctx, ParticleSet& ps, Real dt);
 
-  /// Whether a particle is compressed by more than maxCompression at the current positions.
-  bool overCompressed(const ParticleSet& ps) const;
   /// The constant-density solve once more, at the positions the move reached: one Gauss-Newton
   /// step on theta(x) = 1. The solve above is linear in the move, and underestimates a close
   /// approach (a jet into a wall corner leaves a particle tens of per cent compressed). Finds a
