@@ -221,8 +221,7 @@ PressureSolveStats DfsphSolver::solve(const StepContext& ctx, ParticleSet& ps, s
 }
 
 PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt) {
-  // theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave.
-  auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
+  auto error = [&](size_t i) { return densityError(ps, dt, i); };
   const size_t n = ps.size();
   lower_.assign(n, 0);
   const HydrostaticReference& ref = settings_.reference;
@@ -250,7 +249,7 @@ PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, Particl
   u.assign(n, Vec3());
   correctionPressure_.assign(n, 0);
   lower_.assign(n, 0);
-  auto error = [&](size_t i) { return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1; };
+  auto error = [&](size_t i) { return densityError(ps, dt, i); };
   std::swap(ps.velocity, u);
   const PressureSolveStats stats = solve(ctx, ps, correctionPressure_, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
   std::swap(ps.velocity, u);
@@ -262,7 +261,7 @@ PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, Particle
   // Where the fluid is (about to be) at rest density, d theta/dt = 0; elsewhere (a free surface,
   // a splash) it may expand, and only a pressure left from before is undone.
   auto error = [&](size_t i) {
-    const bool dense = ps.density[i] / ps.restDensity[i] + dt * rate_[i] >= 1;
+    const bool dense = densityError(ps, dt, i) >= 0;
     return dense ? rate_[i] : std::min(rate_[i], Real(0));
   };
   return solve(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);

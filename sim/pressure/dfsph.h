@@ -80,6 +80,11 @@ class DfsphSolver {
   const DfsphSettings& settings() const { return settings_; }
 
  private:
+  /// theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave, from the
+  /// last densityRate (rate_).
+  Real densityError(const ParticleSet& ps, Real dt, size_t i) const {
+    return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1;
+  }
   /// d theta_i / dt of the current velocities (fluid pairs and walls).
   void densityRate(const StepContext& ctx, const std::vector<Vec3>& velocity, std::vector<Real>& rate) const;
   /// velocity_i -= dt a_i for the pressure field `p` (the acceleration above).
