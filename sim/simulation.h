@@ -91,7 +91,9 @@ class Simulation {
   /// The id the next new particle gets; ids below it were given out once and are never reused.
   uint64_t nextId() const { return nextId_; }
 
-  /// One sub-step of at most `maxDt` seconds (the adaptive dt may be smaller); returns dt.
+  /// One sub-step of at most `maxDt` seconds (the adaptive dt may be smaller); returns dt. On
+  /// DFSPH, where `maxDt` is under two flow steps the step takes half of it, so that a series of
+  /// steps up to a frame's time ends in two even steps, not a sliver.
   Real step(Real maxDt);
   /// Sub-steps until time() == t exactly (the last sub-steps are evened out to land on t).
   void advanceTo(Real t, const std::function<void(const Simulation&)>& afterStep = {});
