@@ -57,10 +57,14 @@ TEST(SceneBudget, TheShippedShapeOfSceneIsAcceptedAndItsCountIsTheSeedingLattice
   const mf::Scene sc = mf::parseScene(kScene, "b.toml");
   const mf::SceneBudget b = mf::checkSceneBudget(sc);
   EXPECT_EQ(b.particles, 8 * 7 * 8);  // the block's lattice, all of it inside the glass
-  // A block wider than the glass: of its 12 x 12 columns, those within the 0.3 m radius
-  // (counted by hand from the lattice x = 0.225 + 0.05 i: 112 columns), 7 layers each.
+  // A block wider than the glass: of its 12 x 12 columns, those within the 0.3 m radius less
+  // the default wall margin of 0.45 spacings (0.0225 m), counted by hand from the lattice
+  // x = 0.225 + 0.05 i: 96 columns (112 within 0.3 m, with wall_margin = 0), 7 layers each.
   const mf::Scene wide = mf::parseScene(kScene, "b.toml", {"fluid.0.min=[0.2, 0.05, 0.2]", "fluid.0.max=[0.8, 0.4, 0.8]"});
-  EXPECT_EQ(mf::checkSceneBudget(wide).particles, 112 * 7);
+  EXPECT_EQ(mf::checkSceneBudget(wide).particles, 96 * 7);
+  const mf::Scene wideNoMargin =
+      mf::parseScene(kScene, "b.toml", {"fluid.0.min=[0.2, 0.05, 0.2]", "fluid.0.max=[0.8, 0.4, 0.8]", "fluid.0.wall_margin=0"});
+  EXPECT_EQ(mf::checkSceneBudget(wideNoMargin).particles, 112 * 7);
   EXPECT_GT(b.boundarySamples, 0);
   // Here solver.max_dt (1 ms) is below the sound-speed limit (cfl 0.4 * h 0.1 m / c 31.6 m/s =
   // 1.26 ms): 33.3 steps per 1/30 s frame. With k = 1e4, c = 100 m/s: 0.4 ms, 83.3 steps.
