@@ -118,8 +118,8 @@ struct FluidBlockSpec : FluidRegion {
   // With insideSolid: ... and at least this many spacings inside its surface. Flat walls keep
   // the lattice's first layer half a spacing off (the walls are calibrated for it); a curved wall
   // cuts the lattice anywhere, and a point closer than that starts compressed against it (the
-  // lamp's tapered vessel: 81 % at t = 0 without a margin). A tenth less than half, so that a
-  // layer exactly half a spacing off a flat wall is kept.
+  // lamp's tapered vessel: 81 % at t = 0 without a margin). 0.05 under half, so that a layer
+  // exactly half a spacing off a flat wall is kept.
   Real wallMargin = 0.45;
 };
 
