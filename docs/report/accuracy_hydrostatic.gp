@@ -1,28 +1,41 @@
-set terminal pngcairo size 900,600 noenhanced font "sans,10"
+set terminal pngcairo size 1000,650 noenhanced font "sans,10"
 set output "accuracy_hydrostatic.png.tmp"
-$all << EOD
-7.59132 0.0361848 "10mm f=1 plain"
-9.77312 0.0124188 "10mm f=1 corrected"
-31.9444 0.030429 "6.67mm f=1 plain"
-41.2932 0.0197381 "5mm f=2 plain"
-42.853 0.00679696 "6.67mm f=1 corrected"
-55.5669 0.00420454 "5mm f=2 corrected"
-79.0956 0.0205954 "5mm f=1 plain"
-111.086 0.00864525 "5mm f=1 corrected"
+$wcsph << EOD
+4.2868 0.0174573 "10mm f=1 plain"
+5.64935 0.0183711 "10mm f=1 corrected"
+20.1991 0.010646 "6.67mm f=1 plain"
+20.8046 0.00978987 "5mm f=2 plain"
+25.3306 0.0140564 "6.67mm f=1 corrected"
+25.4412 0.010115 "5mm f=2 corrected"
+41.4766 0.0104937 "5mm f=1 plain"
+59.1761 0.00988709 "5mm f=1 corrected"
 EOD
-$front << EOD
-7.59132 0.0361848 "10mm f=1 plain"
-9.77312 0.0124188 "10mm f=1 corrected"
-42.853 0.00679696 "6.67mm f=1 corrected"
-55.5669 0.00420454 "5mm f=2 corrected"
+$wcsphfront << EOD
+4.2868 0.0174573 "10mm f=1 plain"
+20.1991 0.010646 "6.67mm f=1 plain"
+20.8046 0.00978987 "5mm f=2 plain"
+EOD
+$dfsph << EOD
+1.85779 0.0298301 "10mm f=1"
+6.25629 0.0177686 "6.67mm f=1"
+6.92952 0.0112898 "5mm f=2"
+13.7595 0.0140523 "5mm f=1"
+EOD
+$dfsphfront << EOD
+1.85779 0.0298301 "10mm f=1"
+6.25629 0.0177686 "6.67mm f=1"
+6.92952 0.0112898 "5mm f=2"
 EOD
 set logscale xy
 set grid
-set title "Hydrostatic column"
+set title "Hydrostatic column: WCSPH and DFSPH"
 set xlabel "wall time (s), AMD EPYC"
 set ylabel "RMS pressure error / rho0 g H (log)"
-set key top right
+set key outside right top
 set offsets graph 0.05, graph 0.25, graph 0.1, graph 0.1
-plot $all using 1:2 with points pt 7 ps 1.3 lc rgb "#7f7f7f" title "RMS pressure error / rho0 g H", \
-     $front using 1:2 with linespoints lw 2 pt 6 ps 2.2 lc rgb "#d62728" title "Pareto front", \
-     $all using 1:2:3 with labels left offset 0.6,0.5 rotate by 40 font "sans,8" notitle
+plot $wcsph using 1:2 with points pt 7 ps 1.3 lc rgb "#d62728" title "wcsph: RMS pressure error / rho0 g H", \
+     $wcsphfront using 1:2 with linespoints lw 2 dt 1 pt 6 ps 2.2 lc rgb "#d62728" title "wcsph: its Pareto front", \
+     $wcsph using 1:2:3 with labels left offset 0.6,0.5 rotate by 40 font "sans,8" tc rgb "#d62728" notitle, \
+     $dfsph using 1:2 with points pt 9 ps 1.3 lc rgb "#1f77b4" title "dfsph: RMS pressure error / rho0 g H", \
+     $dfsphfront using 1:2 with linespoints lw 2 dt 1 pt 8 ps 2.2 lc rgb "#1f77b4" title "dfsph: its Pareto front", \
+     $dfsph using 1:2:3 with labels left offset 0.6,0.5 rotate by 40 font "sans,8" tc rgb "#1f77b4" notitle

@@ -1,12 +1,12 @@
-set terminal pngcairo size 1100,1140 noenhanced font "sans,9"
+set terminal pngcairo size 1100,2280 noenhanced font "sans,9"
 set output "stability.png.tmp"
-set multiplot layout 3,2 title "Largest compression (rho - rho0)/rho0 of accepted steps per case (stopped runs drawn at the watchdog's limit 0.5)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
+set multiplot layout 6,2 title "Largest compression (rho - rho0)/rho0 of accepted steps per case (stopped runs drawn at the watchdog's limit 0.5)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
 set logscale y
 set yrange [0.0001:2]
 set grid ytics
 set xtics rotate by 30 right
 set ylabel "max density error"
-set title "stiffness"
+set title "wcsph: stiffness"
 set xrange [-0.5:5.5]
 set xtics ("k=10" 0, "k=100" 1, "k=400" 2, "k=1000" 3, "k=10000" 4, "k=100000" 5)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -17,7 +17,18 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 4 0.0916705 7 2924588
 5 0.0378139 7 2924588
 e
-set title "density_ratio"
+set title "dfsph: density_tolerance"
+set xrange [-0.5:5.5]
+set xtics ("tol=0.05" 0, "tol=0.01" 1, "tol=0.001" 2, "tol=0.0005" 3, "tol=0.0001" 4, "tol=1e-05" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0478159 7 2924588
+1 0.0478159 7 2924588
+2 0.0499346 7 2924588
+3 0.0354268 7 2924588
+4 0.0408165 7 2924588
+5 0.0395818 7 2924588
+e
+set title "wcsph: density_ratio"
 set xrange [-0.5:7.5]
 set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -30,7 +41,20 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 6 0.5 2 14034728
 7 0.0618782 7 2924588
 e
-set title "viscosity"
+set title "dfsph: density_ratio"
+set xrange [-0.5:7.5]
+set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.00735497 7 2924588
+1 0.00735497 7 2924588
+2 0.5 2 14034728
+3 0.00669513 7 2924588
+4 0.5 2 14034728
+5 0.00597639 7 2924588
+6 0.5 2 14034728
+7 0.0069223 7 2924588
+e
+set title "wcsph: viscosity"
 set xrange [-0.5:6.5]
 set xtics ("mu=0" 0, "mu=0.01" 1, "mu=0.1" 2, "mu=1" 3, "mu=10" 4, "mu=100" 5, "mu=1000" 6)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -42,7 +66,19 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 5 0.234052 7 2924588
 6 0.19386 7 2924588
 e
-set title "dt_factor"
+set title "dfsph: viscosity"
+set xrange [-0.5:6.5]
+set xtics ("mu=0" 0, "mu=0.01" 1, "mu=0.1" 2, "mu=1" 3, "mu=10" 4, "mu=100" 5, "mu=1000" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0374382 7 2924588
+1 0.0396074 7 2924588
+2 0.0354268 7 2924588
+3 0.048345 7 2924588
+4 0.0498928 7 2924588
+5 0.00624281 7 2924588
+6 0.0069513 7 2924588
+e
+set title "wcsph: dt_factor"
 set xrange [-0.5:6.5]
 set xtics ("f=0.5" 0, "f=1" 1, "f=2" 2, "f=5" 3, "f=10" 4, "f=25" 5, "f=25 no retries" 6)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -54,7 +90,19 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 5 0.5 2 14034728
 6 0.5 2 14034728
 e
-set title "temperature"
+set title "dfsph: dt_factor"
+set xrange [-0.5:6.5]
+set xtics ("f=0.5" 0, "f=1" 1, "f=2" 2, "f=5" 3, "f=10" 4, "f=25" 5, "f=25 no retries" 6)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0456446 7 2924588
+1 0.106476 7 2924588
+2 0.379283 7 16744206
+3 0.110041 7 16744206
+4 0.117697 7 16744206
+5 0.117697 7 16744206
+6 0.5 2 14034728
+e
+set title "wcsph: temperature"
 set xrange [-0.5:4.5]
 set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -64,7 +112,17 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 3 0.0118068 7 2924588
 4 0.5 2 14034728
 e
-set title "spacing"
+set title "dfsph: temperature"
+set xrange [-0.5:4.5]
+set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.00735497 7 2924588
+1 0.00669835 7 2924588
+2 0.00692485 7 2924588
+3 0.0117276 7 2924588
+4 0.5 2 14034728
+e
+set title "wcsph: spacing"
 set xrange [-0.5:5.5]
 set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
@@ -74,5 +132,16 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 3 0.312323 7 2924588
 4 0.0211384 7 2924588
 5 0.5 2 14034728
+e
+set title "dfsph: spacing"
+set xrange [-0.5:5.5]
+set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0367147 7 2924588
+1 0.0139169 7 2924588
+2 0.0354268 7 2924588
+3 0.0412186 7 2924588
+4 0.0472664 7 2924588
+5 0.0124321 7 2924588
 e
 unset multiplot
