@@ -588,11 +588,9 @@ void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>&
   while (time_ < t) {
     const Real remaining = t - time_;
     if (remaining <= 1e-12 * std::max(Real(1), t)) break;
-    // Even out the last sub-steps so that none is a sliver: if two steps of the largest
-    // allowed size would overshoot, take half the remainder. DFSPH does this against its flow
+    // Even out the last sub-steps so that none is a sliver. DFSPH does this against its flow
     // step, which it knows only inside the step (stepDfsph).
-    const Real limit = std::min(scene_.solver.maxDt, remaining);
-    step(dfsph_ || remaining <= limit ? remaining : (remaining < 2 * limit ? 0.5 * remaining : limit));
+    step(dfsph_ ? remaining : evenStep(remaining, std::min(scene_.solver.maxDt, remaining)));
     if (afterStep) afterStep(*this);
   }
   time_ = t;

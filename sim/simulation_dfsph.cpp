@@ -71,8 +71,7 @@ Real Simulation::stepDfsph(Real maxDt) {
   // the velocity it leaves grows as 1/dt: a sliver of a step before a frame's time turned a
   // particle's 4 % compression against a wall into 11 m/s. Where the time allowed is under two
   // flow steps, take half of it, so that a frame's last steps are at least half a flow step.
-  const Real flow = chooseDt();
-  Real dt = maxDt <= flow ? maxDt : (maxDt < 2 * flow ? 0.5 * maxDt : flow);
+  Real dt = evenStep(maxDt, chooseDt());
   savedPosition_ = ps_.position;
   savedVelocity_ = ps_.velocity;
   const std::vector<Real> savedPressure = ps_.pressure, savedDivergence = ps_.divergencePressure;
