@@ -144,7 +144,6 @@ Simulation::Simulation(const Scene& scene)
     ds.divergenceTolerance = st.divergenceTolerance;
     ds.maxIterations = st.maxPressureIterations;
     ds.conjugateGradient = st.conjugateGradient;
-    ds.wallFactor = wall0.mirrorFactor;
     // The pressure table's hydrostatic reference carries over to the implicit solve (not while
     // gravity ramps in: the reference is the full weight).
     const EffectSpec* pressure = scene_.effect("pressure");

@@ -176,36 +176,42 @@ WallCalibration calibrateImplicitWall(const SphKernels& K, Real s, Real b) {
         present += w;
         if (r2 > 0) fluidPush += K.pressureGrad(Vec3(-i * s, -j * s, -k * s), s * s * Real(r2)).z;
       }
-  const Real missing = 1 - present / latticeSum, lone = 1 - K.selfWeight / latticeSum;
+  // What the missing half-lattice gives the first layer: its density, and (the pair force
+  // counting p_i + p_j) twice its gradient under a uniform pressure.
+  const Real missing = 1 - present / latticeSum, push = -2 * fluidPush / latticeSum;
   // One sample layer at distance dz, unit Akinci volumes: density and push (z components).
   Real layerAtSelf = 0;
   for (int j = -nb; j <= nb; ++j)
     for (int i = -nb; i <= nb; ++i) layerAtSelf += K.densityChecked(b * b * Real(i * i + j * j));
-  auto layer = [&](Real dz, bool push) {
+  auto layer = [&](Real dz, bool gradient) {
     Real sum = 0;
     for (int j = -nb; j <= nb; ++j)
       for (int i = -nb; i <= nb; ++i) {
         const Real r2 = b * b * Real(i * i + j * j) + dz * dz;
-        if (r2 < K.h2) sum += push ? K.pressureGrad(Vec3(-i * b, -j * b, dz), r2).z : K.density(r2);
+        if (r2 < K.h2) sum += gradient ? K.pressureGrad(Vec3(-i * b, -j * b, dz), r2).z : K.density(r2);
       }
     return sum / layerAtSelf;
   };
-  // A lone particle reaches rest density a tenth of a spacing above the surface: exactly on it,
-  // the solve's tolerance left a resting particle a hair inside, clamped back every step (153
-  // clamps in 1 s for one particle at rest on a floor). density(depth + contact) /
-  // density(depth + s/2) rises with the depth; bisect for lone / missing.
-  const Real contact = 0.1 * s;
-  const Real target = lone / missing;
-  Real lo = 0, hi = K.h - 0.5 * s;
+  // The layer's push per density, seen from the first fluid layer, steepens as the layer sinks
+  // towards the edge of the support: bisect its depth for push / missing.
+  const Real target = std::fabs(push / missing), first = 0.5 * s;
+  auto steepness = [&](Real depth) { return std::fabs(layer(depth + first, true) / layer(depth + first, false)); };
+  Real lo = 0, hi = K.h - first;
   for (int it = 0; it < 60; ++it) {
     const Real mid = 0.5 * (lo + hi);
-    (layer(mid + contact, false) / layer(mid + 0.5 * s, false) < target ? lo : hi) = mid;
+    (steepness(mid) < target ? lo : hi) = mid;
   }
   WallCalibration c;
   c.offset = 0.5 * (lo + hi);
-  c.volumeScale = lone / layer(c.offset + contact, false);
-  const Real wallPush = c.volumeScale * layer(c.offset + 0.5 * s, true), fluid = fluidPush / latticeSum;
-  c.mirrorFactor = wallPush < 0 ? -2 * fluid / wallPush : 1;
+  c.volumeScale = missing / layer(c.offset + first, false);
+  // Where a lone particle reads rest density: the wall's density falls with the height.
+  const Real lone = 1 - K.selfWeight / latticeSum;
+  lo = -c.offset, hi = first;
+  for (int it = 0; it < 60; ++it) {
+    const Real mid = 0.5 * (lo + hi);
+    (c.volumeScale * layer(c.offset + mid, false) > lone ? lo : hi) = mid;
+  }
+  c.contactHeight = 0.5 * (lo + hi);
   return c;
 }
 

@@ -25,19 +25,19 @@ std::vector<Vec3> sampleSolidSurfaces(const std::vector<SolidSpec>& solids, Real
 /// (bisection) with the discrete lattice sums of the kernel actually used.
 Real wallSampleOffset(const SphKernels& kernels, Real particleSpacing, Real boundarySpacing);
 
-/// The single sample layer of the walls as DFSPH uses it. Two conditions on the seeding lattice
-/// fix the layer's depth and a scale on its Akinci volumes: the first fluid layer (half a
-/// spacing from the surface) is at rest density, and a lone particle reaches rest density with
-/// its centre on the surface, so that the constant-density solve stops a splash at the wall
-/// instead of inside it. The mirror factor weights the wall in the density rate and the pressure
-/// force: a particle moving into the wall approaches its own mirror image, which carries its
-/// pressure, so both count the wall about twice; it is solved so that a uniform pressure pushes
-/// the first layer as the missing half-lattice would (2 |sum_j V_j grad W_ij| over it). The
-/// same factor in the rate and the force keeps the pressure the adjoint of the constraint.
+/// The single sample layer of the walls as DFSPH uses it. The wall is one term of a particle's
+/// density, theta_i = sum_j V_j W_ij + sum_b V_b W_ib, and its pressure force is -p_i V_i times
+/// that term's gradient, so the force stays the adjoint of the constraint it enforces and does
+/// no work over a closed path. Two conditions on the seeding lattice fix the layer's depth and a
+/// scale on its Akinci volumes: the first fluid layer (half a spacing from the surface) is at
+/// rest density, and a uniform pressure pushes it off the wall as hard as the missing
+/// half-lattice would push it on (twice sum_j V_j grad W_ij over that half: the pair force
+/// counts p_i + p_j). A wall weighted more in the force than in the density (a "mirror factor",
+/// 1.7 here before) fed energy into a closed still tank; see docs/pressure_solvers.md#walls.
 struct WallCalibration {
-  Real offset = 0;       // depth of the sample layer below the surface, m
-  Real volumeScale = 1;  // on V_b = 1 / sum_k W_bk
-  Real mirrorFactor = 1;
+  Real offset = 0;         // depth of the sample layer below the surface, m
+  Real volumeScale = 1;    // on V_b = 1 / sum_k W_bk
+  Real contactHeight = 0;  // a lone particle reads rest density this far above the surface, m
 };
 WallCalibration calibrateImplicitWall(const SphKernels& kernels, Real particleSpacing, Real boundarySpacing);
 

@@ -23,7 +23,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
   diagonal_.resize(n);
-  // V_j grad W_ij per fluid pair and gamma V_b grad W_ib per wall pair, kept for the solves'
+  // V_j grad W_ij per fluid pair and V_b grad W_ib per wall pair, kept for the solves'
   // iterations, which then read them instead of evaluating the kernel again.
   fluidGrad_.resize(ctx.fluidNeighbors.indices.size());
   wallGrad_.resize(ctx.boundaryNeighbors.indices.size());
@@ -44,7 +44,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
-        wallGrad_[k] = K.pressureGrad(rib, lengthSquared(rib)) * (settings_.wallFactor * ctx.boundary.volume[b]);
+        wallGrad_[k] = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
         gradB += wallGrad_[k];
       }
       diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;

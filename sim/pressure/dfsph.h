@@ -7,16 +7,13 @@
 // calibrateImplicitWall, sim/solids.h). A light particle next to a heavy one sees the heavy one's
 // volume, not its mass, so interfaces stay sharp at 1:1000. The pressure acceleration is the
 // antisymmetric pair form
-//   a_i = -(1/rho0_i) [ sum_j V_j (p_i + p_j) grad W_ij + gamma sum_b V_b p_i grad W_ib ]
-// so F_i = m_i a_i conserves momentum between fluid particles. The wall is a mirror: its sample
-// carries the particle's own pressure, and gamma (about 1.7, WallCalibration::mirrorFactor) makes
-// a uniform pressure push the first layer off the wall as hard as the fluid pushes it on; with
-// gamma = 1 (SPlisHSPlasH's choice) the first layer of a still tank is pulled into the floor at
-// 0.18 m/s per 5 ms step and the tank never settles. The density rate counts the wall with the
-// same gamma, so the force stays the adjoint of the constraint: a wall factor in the force alone
-// fed energy in (a still tank reached 0.9 m/s at gamma = 1.9). Its diagonal, with all other
-// pressures zero, gives the Jacobi step of both solves:
-//   D_i = |sum_j V_j grad W_ij + gamma sum_b V_b grad W_ib|^2 / rho0_i + V_i sum_j V_j |grad W_ij|^2 / rho0_j
+//   a_i = -(1/rho0_i) [ sum_j V_j (p_i + p_j) grad W_ij + sum_b V_b p_i grad W_ib ]
+// so F_i = m_i a_i conserves momentum between fluid particles, and each term is -lambda times
+// the gradient of a term of the constraint: the force does no work over a closed path. The wall
+// samples' depth and volumes (calibrateImplicitWall) make a uniform pressure push the first layer
+// off the wall as hard as the fluid pushes it on. Its diagonal, with all other pressures zero,
+// gives the Jacobi step of both solves:
+//   D_i = |sum_j V_j grad W_ij + sum_b V_b grad W_ib|^2 / rho0_i + V_i sum_j V_j |grad W_ij|^2 / rho0_j
 //   constant density:  p_i += (theta*_i - 1) / (dt^2 D_i),  theta*_i = theta_i + dt d(theta_i)/dt
 //   divergence-free:   p_i += d(theta_i)/dt / (dt D_i)
 // grad W is the pressure force's gradient (lattice-normalised, sim/kernels.h), in the force and in
@@ -45,7 +42,6 @@ struct DfsphSettings {
   int maxIterations = 100;
   int minIterations = 2;
   bool conjugateGradient = true;  // else projected Jacobi
-  Real wallFactor = 1;  // the wall's weight in the density rate and the pressure force (wallMirrorFactor)
   HydrostaticReference reference;  // of the constant-density solve
 };
 
