@@ -1,30 +1,29 @@
 set terminal pngcairo size 1000,650 noenhanced font "sans,10"
 set output "accuracy_hydrostatic.png.tmp"
 $wcsph << EOD
-4.2868 0.0174573 "10mm f=1 plain"
-5.64935 0.0183711 "10mm f=1 corrected"
-20.1991 0.010646 "6.67mm f=1 plain"
-20.8046 0.00978987 "5mm f=2 plain"
-25.3306 0.0140564 "6.67mm f=1 corrected"
-25.4412 0.010115 "5mm f=2 corrected"
-41.4766 0.0104937 "5mm f=1 plain"
-59.1761 0.00988709 "5mm f=1 corrected"
+4.00007 0.0174573 "10mm f=1 plain"
+5.32746 0.0183711 "10mm f=1 corrected"
+19.3963 0.010646 "6.67mm f=1 plain"
+20.4933 0.00978987 "5mm f=2 plain"
+26.8242 0.010115 "5mm f=2 corrected"
+27.9418 0.0140564 "6.67mm f=1 corrected"
+46.9325 0.0104937 "5mm f=1 plain"
+61.6914 0.00988709 "5mm f=1 corrected"
 EOD
 $wcsphfront << EOD
-4.2868 0.0174573 "10mm f=1 plain"
-20.1991 0.010646 "6.67mm f=1 plain"
-20.8046 0.00978987 "5mm f=2 plain"
+4.00007 0.0174573 "10mm f=1 plain"
+19.3963 0.010646 "6.67mm f=1 plain"
+20.4933 0.00978987 "5mm f=2 plain"
 EOD
 $dfsph << EOD
-1.85779 0.0298301 "10mm f=1"
-6.25629 0.0177686 "6.67mm f=1"
-6.92952 0.0112898 "5mm f=2"
-13.7595 0.0140523 "5mm f=1"
+1.71402 0.0236398 "10mm f=1"
+6.82006 0.0101812 "5mm f=2"
+7.28719 0.0133013 "6.67mm f=1"
+12.9975 0.0125715 "5mm f=1"
 EOD
 $dfsphfront << EOD
-1.85779 0.0298301 "10mm f=1"
-6.25629 0.0177686 "6.67mm f=1"
-6.92952 0.0112898 "5mm f=2"
+1.71402 0.0236398 "10mm f=1"
+6.82006 0.0101812 "5mm f=2"
 EOD
 set logscale xy
 set grid

@@ -1,32 +1,33 @@
 set terminal pngcairo size 1000,650 noenhanced font "sans,10"
 set output "accuracy_layered.png.tmp"
 $wcsph << EOD
-7.53012 0.00555556 "10mm f=1 mass"
-7.69237 0.0240741 "10mm f=1 number"
-30.9552 0.00823045 "6.67mm f=1 mass"
-31.5002 0.048011 "6.67mm f=1 number"
-41.6026 0.018287 "5mm f=2 mass"
-41.6354 0.0510417 "5mm f=2 number"
-89.0155 0.0185185 "5mm f=1 mass"
-96.6054 0.0685185 "5mm f=1 number"
+6.87551 0.0240741 "10mm f=1 number"
+7.43976 0.00555556 "10mm f=1 mass"
+35.1496 0.00823045 "6.67mm f=1 mass"
+36.7398 0.048011 "6.67mm f=1 number"
+46.0137 0.0510417 "5mm f=2 number"
+47.2133 0.018287 "5mm f=2 mass"
+79.8391 0.0185185 "5mm f=1 mass"
+79.9321 0.0685185 "5mm f=1 number"
 EOD
 $wcsphfront << EOD
-7.53012 0.00555556 "10mm f=1 mass"
+6.87551 0.0240741 "10mm f=1 number"
+7.43976 0.00555556 "10mm f=1 mass"
 EOD
 $dfsph << EOD
-4.50162 0.35463 "10mm f=1 number"
-5.11843 0.0203704 "10mm f=1 mass"
-13.1164 0.950069 "6.67mm f=1 number"
-19.3012 0.0142661 "6.67mm f=1 mass"
-27.6345 0.956713 "5mm f=1 number"
-34.9039 0.95787 "5mm f=2 number"
-45.8429 0.0164352 "5mm f=1 mass"
-49.5858 0.0275463 "5mm f=2 mass"
+4.1223 0.37037 "10mm f=1 number"
+5.23703 0.193519 "10mm f=1 mass"
+11.9511 0.951715 "6.67mm f=1 number"
+17.8071 0.159396 "6.67mm f=1 mass"
+26.3276 0.963889 "5mm f=1 number"
+30.4489 0.391782 "5mm f=1 mass"
+41.5937 0.962963 "5mm f=2 number"
+44.7163 0.943056 "5mm f=2 mass"
 EOD
 $dfsphfront << EOD
-4.50162 0.35463 "10mm f=1 number"
-5.11843 0.0203704 "10mm f=1 mass"
-19.3012 0.0142661 "6.67mm f=1 mass"
+4.1223 0.37037 "10mm f=1 number"
+5.23703 0.193519 "10mm f=1 mass"
+17.8071 0.159396 "6.67mm f=1 mass"
 EOD
 set logscale xy
 set grid

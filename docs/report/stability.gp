@@ -21,12 +21,12 @@ set title "dfsph: density_tolerance"
 set xrange [-0.5:5.5]
 set xtics ("tol=0.05" 0, "tol=0.01" 1, "tol=0.001" 2, "tol=0.0005" 3, "tol=0.0001" 4, "tol=1e-05" 5)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0478159 7 2924588
-1 0.0478159 7 2924588
-2 0.0499346 7 2924588
-3 0.0354268 7 2924588
-4 0.0408165 7 2924588
-5 0.0395818 7 2924588
+0 0.0445785 7 2924588
+1 0.0445785 7 2924588
+2 0.0484392 7 2924588
+3 0.0486235 7 2924588
+4 0.0206954 7 2924588
+5 0.0208677 7 2924588
 e
 set title "wcsph: density_ratio"
 set xrange [-0.5:7.5]
@@ -45,14 +45,14 @@ set title "dfsph: density_ratio"
 set xrange [-0.5:7.5]
 set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.00735497 7 2924588
-1 0.00735497 7 2924588
+0 0.00499447 7 2924588
+1 0.00722943 7 2924588
 2 0.5 2 14034728
-3 0.00669513 7 2924588
+3 0.00542191 7 2924588
 4 0.5 2 14034728
-5 0.00597639 7 2924588
+5 0.00478393 7 2924588
 6 0.5 2 14034728
-7 0.0069223 7 2924588
+7 0.0098673 7 2924588
 e
 set title "wcsph: viscosity"
 set xrange [-0.5:6.5]
@@ -70,13 +70,13 @@ set title "dfsph: viscosity"
 set xrange [-0.5:6.5]
 set xtics ("mu=0" 0, "mu=0.01" 1, "mu=0.1" 2, "mu=1" 3, "mu=10" 4, "mu=100" 5, "mu=1000" 6)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0374382 7 2924588
-1 0.0396074 7 2924588
-2 0.0354268 7 2924588
-3 0.048345 7 2924588
-4 0.0498928 7 2924588
-5 0.00624281 7 2924588
-6 0.0069513 7 2924588
+0 0.0481991 7 2924588
+1 0.0480975 7 2924588
+2 0.0486235 7 2924588
+3 0.0416865 7 2924588
+4 0.0174696 7 2924588
+5 0.0228638 7 2924588
+6 0.0287133 7 2924588
 e
 set title "wcsph: dt_factor"
 set xrange [-0.5:6.5]
@@ -94,12 +94,12 @@ set title "dfsph: dt_factor"
 set xrange [-0.5:6.5]
 set xtics ("f=0.5" 0, "f=1" 1, "f=2" 2, "f=5" 3, "f=10" 4, "f=25" 5, "f=25 no retries" 6)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0456446 7 2924588
-1 0.106476 7 2924588
-2 0.379283 7 16744206
-3 0.110041 7 16744206
-4 0.117697 7 16744206
-5 0.117697 7 16744206
+0 0.048427 7 2924588
+1 0.0720021 7 2924588
+2 0.421199 7 16744206
+3 0.0491727 7 16744206
+4 0.355679 7 16744206
+5 0.355679 7 16744206
 6 0.5 2 14034728
 e
 set title "wcsph: temperature"
@@ -116,10 +116,10 @@ set title "dfsph: temperature"
 set xrange [-0.5:4.5]
 set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.00735497 7 2924588
-1 0.00669835 7 2924588
-2 0.00692485 7 2924588
-3 0.0117276 7 2924588
+0 0.00795455 7 2924588
+1 0.00856055 7 2924588
+2 0.00566307 7 2924588
+3 0.01033 7 2924588
 4 0.5 2 14034728
 e
 set title "wcsph: spacing"
@@ -137,11 +137,11 @@ set title "dfsph: spacing"
 set xrange [-0.5:5.5]
 set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0367147 7 2924588
-1 0.0139169 7 2924588
-2 0.0354268 7 2924588
-3 0.0412186 7 2924588
-4 0.0472664 7 2924588
-5 0.0124321 7 2924588
+0 0.00421137 7 2924588
+1 0.011366 7 2924588
+2 0.0486235 7 2924588
+3 0.293511 7 16744206
+4 0.0491334 7 2924588
+5 0.0133786 7 2924588
 e
 unset multiplot

@@ -46,14 +46,14 @@ set title "dfsph: density_ratio"
 set xrange [-0.5:7.5]
 set xtics ("1:1 mass" 0, "1:1 number" 1, "1:10 mass" 2, "1:10 number" 3, "1:100 mass" 4, "1:100 number" 5, "1:1000 mass" 6, "1:1000 number" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0105645 7 2924588
-1 0.0105645 7 2924588
+0 0.00375911 7 2924588
+1 0.00375911 7 2924588
 2 0.0001 2 14034728
-3 0.00730043 7 2924588
+3 0.00575256 7 2924588
 4 0.0001 2 14034728
-5 0.00929619 7 2924588
+5 0.00642129 7 2924588
 6 0.0001 2 14034728
-7 0.0100665 7 2924588
+7 0.00650021 7 2924588
 e
 set title "wcsph: viscosity"
 set xrange [-0.5:6.5]
@@ -117,11 +117,11 @@ set title "dfsph: temperature"
 set xrange [-0.5:4.5]
 set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 0.0105645 7 2924588
-1 0.0110593 7 2924588
-2 0.0249373 7 2924588
-3 0.168545 7 2924588
-4 52.6848 2 14034728
+0 0.00375911 7 2924588
+1 0.00401139 7 2924588
+2 0.0190798 7 2924588
+3 0.155009 7 2924588
+4 1000 2 14034728
 e
 set title "wcsph: spacing"
 set xrange [-0.5:5.5]
@@ -138,11 +138,11 @@ set title "dfsph: spacing"
 set xrange [-0.5:5.5]
 set xtics ("s=0.05m" 0, "s=0.025m" 1, "s=0.01m" 2, "s=0.005m" 3, "s=0.0001m (scene x0.01)" 4, "s=1m (scene x100)" 5)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
-0 1.02954 7 2924588
-1 0.0001 7 2924588
+0 0.0001 7 2924588
+1 0.000596913 7 2924588
 2 0.0001 7 2924588
-3 0.0001 7 2924588
+3 0.0001 7 16744206
 4 0.0001 7 2924588
-5 0.0004483 7 2924588
+5 0.00257572 7 2924588
 e
 unset multiplot
