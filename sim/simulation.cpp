@@ -589,7 +589,7 @@ void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>&
     if (remaining <= 1e-12 * std::max(Real(1), t)) break;
     // Even out the last sub-steps so that none is a sliver. DFSPH does this against its flow
     // step, which it knows only inside the step (stepDfsph).
-    step(dfsph_ ? remaining : evenStep(remaining, std::min(scene_.solver.maxDt, remaining)));
+    step(dfsph_ ? remaining : evenStep(remaining, scene_.solver.maxDt));
     if (afterStep) afterStep(*this);
   }
   time_ = t;

@@ -119,10 +119,10 @@ class Simulation {
   void advect(Real dt, const std::vector<Vec3>& x0);
   /// The motion of one step, by the chosen pressure solver; returns the dt taken.
   Real stepWcsph(Real maxDt);
-  Real stepDfsph(Real maxDt);
+  Real stepDfsph(Real maxDt);  // Bender & Koschier 2017, Algorithm 1 (simulation_dfsph.cpp)
   /// The step toward a time `left` away when steps may be at most `limit`: all of it if it fits,
   /// half of it if two steps of `limit` would overshoot (so that none is a sliver), else `limit`.
-  static Real evenStep(Real left, Real limit) { return left <= limit ? left : (left < 2 * limit ? 0.5 * left : limit); }  // Bender & Koschier 2017, Algorithm 1 (simulation_dfsph.cpp)
+  static Real evenStep(Real left, Real limit) { return left <= limit ? left : (left < 2 * limit ? 0.5 * left : limit); }
   /// A watchdog failure: restores the step's start and returns (the caller halves dt), or
   /// throws NumericalInstability naming the particle (bad >= 0), the step and the parameter.
   void retryOrStop(int attempt, Real dt, int64_t bad, const std::string& why, const std::string& parameter);
