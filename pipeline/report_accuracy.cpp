@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 
 #include "report_problems.h"
 #include "report_util.h"
@@ -65,20 +66,36 @@ Table resultTable(const Problem& p, const std::vector<Measured>& results) {
 }
 
 // Gnuplot data block of (wall, error, label) of one solver's settings with an error, by wall
-// time; `onlyFront` keeps its Pareto points (joined by a line in the plot).
+// time; `onlyFront` keeps its Pareto points (joined by a line in the plot). A log axis has no
+// zero, so an error of exactly 0 (the layered problem: no particle on the wrong side) is drawn at
+// `zeroAt`, below every other point, and labelled "= 0".
 std::string dataBlock(const std::string& name, const Problem& p, const std::vector<Measured>& r, bool alt,
-                      bool onlyFront, const std::string& solver) {
+                      bool onlyFront, const std::string& solver, double zeroAt) {
   const std::vector<bool> front = frontOf(p, r, alt, solver);
   std::vector<size_t> order;
   for (size_t k = 0; k < r.size(); ++k)
-    if (p.ladder[k].solver == solver && std::isfinite(p.errorOf(r[k], alt)) && p.errorOf(r[k], alt) > 0 &&
+    if (p.ladder[k].solver == solver && std::isfinite(p.errorOf(r[k], alt)) && p.errorOf(r[k], alt) >= 0 &&
         (!onlyFront || front[k]))
       order.push_back(k);
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return r[a].wall < r[b].wall; });
   std::string out = "$" + name + " << EOD\n";
-  for (size_t k : order)
-    out += fmt::format("{:.6g} {:.6g} \"{}\"\n", r[k].wall, p.errorOf(r[k], alt), escapeGnuplot(p.ladder[k].label));
+  for (size_t k : order) {
+    const double e = p.errorOf(r[k], alt);
+    out += fmt::format("{:.6g} {:.6g} \"{}{}\"\n", r[k].wall, e > 0 ? e : zeroAt, escapeGnuplot(p.ladder[k].label),
+                       e > 0 ? "" : ": error = 0");
+  }
   return out + "EOD\n";
+}
+
+// Where a zero error is drawn: a third of the smallest positive error of the plot.
+double zeroLevel(const Problem& p, const std::vector<Measured>& r) {
+  double least = std::numeric_limits<double>::infinity();
+  for (bool alt : {false, true}) {
+    if (alt && p.altExtra < 0) continue;
+    for (const Measured& m : r)
+      if (std::isfinite(p.errorOf(m, alt)) && p.errorOf(m, alt) > 0) least = std::min(least, p.errorOf(m, alt));
+  }
+  return std::isfinite(least) ? least / 3 : 1e-6;
 }
 
 // How a solver's series look: WCSPH red circles, DFSPH blue triangles; a second error (the dam
@@ -96,13 +113,14 @@ Style styleOf(const std::string& solver, bool alt) {
 // joined; a problem with a second error gets those points and fronts too.
 std::string paretoScript(const Problem& p, const std::vector<Measured>& r, const Machine& machine) {
   std::string data, plots;
+  const double zeroAt = zeroLevel(p, r);
   for (bool alt : {false, true}) {
     if (alt && p.altExtra < 0) continue;
     const std::string what = alt ? p.altName : p.errorName;
     for (const auto& solver : solverNames()) {
       if (std::none_of(p.ladder.begin(), p.ladder.end(), [&](const Setting& s) { return s.solver == solver; })) continue;
       const std::string all = solver + (alt ? "alt" : ""), front = all + "front";
-      data += dataBlock(all, p, r, alt, false, solver) + dataBlock(front, p, r, alt, true, solver);
+      data += dataBlock(all, p, r, alt, false, solver, zeroAt) + dataBlock(front, p, r, alt, true, solver, zeroAt);
       const Style st = styleOf(solver, alt);
       plots += fmt::format(
           "{sep}${all} using 1:2 with points pt {pt} ps 1.3 lc rgb \"{c}\" title \"{solver}: {what}\", \\\n"

@@ -341,8 +341,13 @@ constexpr double kLayerTime = 4.0, kLayer = 0.06;
 
 // Rayleigh-Taylor: the heavy fluid (1000 kg/m^3) starts above the light one (500 kg/m^3), both
 // jittered by 0.1 spacing (seeded) so that the overturn does not wait on rounding noise; viscosity
-// and stiffness as in configs/two_fluids_mixed.toml.
+// and stiffness as in configs/two_fluids_mixed.toml. Variant "reference" is "mass" with the
+// hydrostatic reference the shipped two-fluid scenes set: the heavy fluid's density, level where a
+// column of it weighs what both layers weigh (1.5 layers).
 Scene layeredScene(const Setting& s) {
+  const bool reference = s.variant == "reference";
+  const std::string pressure =
+      reference ? fmt::format("reference_density = 1000.0\nreference_level = {}\n", tomlReal(1.5 * kLayer)) : std::string();
   const std::string text = fmt::format(R"(
 [scene]
 name = "layered"
@@ -381,10 +386,11 @@ jitter = 0.1
 seed = 2
 [effects.gravity]
 [effects.pressure]
-[effects.viscosity]
+{pressure}[effects.viscosity]
 )",
                                        fmt::arg("end", tomlReal(kLayerTime)), fmt::arg("s", tomlReal(s.spacing)),
-                                       fmt::arg("formulation", s.variant), fmt::arg("layer", tomlReal(kLayer)),
+                                       fmt::arg("formulation", reference ? "mass" : s.variant), fmt::arg("layer", tomlReal(kLayer)),
+                                       fmt::arg("pressure", pressure),
                                        fmt::arg("top", tomlReal(2 * kLayer)));
   return withFactor(parseScene(text, "<report:layered>", rungOverrides(s)), s);
 }
@@ -519,11 +525,13 @@ std::vector<Problem> problems(bool quick) {
               "Heavy fluid (1000 kg/m^3) above light (500 kg/m^3), 6 cm each in a 0.1 x 0.2 x 0.06 m box, "
               "k = 200 for WCSPH, mu = 0.5 Pa s, jitter 0.1 spacing; variants: `density_formulation` mass (eq. 1) or "
               "number, for both solvers (DFSPH's constraint is the density contrast either way, but the density "
-              "field its watchdog and its implicit viscosity read follows the formulation).",
+              "field its watchdog and its implicit viscosity read follows the formulation), and `reference`: mass "
+              "with the hydrostatic reference of the shipped two-fluid scenes (`reference_density = 1000`, "
+              "`reference_level = 0.09`, where a column of the heavy fluid weighs what both layers weigh).",
               {"heavy_wrong_fraction", "light_wrong_fraction"}, {}, runLayered, -1, "", ""};
     auto add = [&](double s, double f) {
       for (const auto& solver : solvers)
-        for (const char* v : {"mass", "number"}) p.ladder.push_back(rung(s, f, v, mm(s), solver));
+        for (const char* v : {"mass", "number", "reference"}) p.ladder.push_back(rung(s, f, v, mm(s), solver));
     };
     if (quick) {
       add(0.01, 1);

@@ -22,7 +22,7 @@ common=problem,solver,setting,spacing_m,dt_factor,variant,particles,steps,wall_s
 check_csv accuracy_dam_break.csv "$common,rms_Z_shifted,rms_H,rms_H_shifted,pareto_rms_Z_shifted,pareto,status" 4
 check_csv accuracy_hydrostatic.csv "$common,max_bin_ratio_error,bins,pareto,status" 3
 check_csv accuracy_heat_diffusion.csv "$common,max_abs_error,pareto,status" 4
-check_csv accuracy_layered.csv "$common,heavy_wrong_fraction,light_wrong_fraction,pareto,status" 4
+check_csv accuracy_layered.csv "$common,heavy_wrong_fraction,light_wrong_fraction,pareto,status" 6
 check_csv stability.csv "solver,sweep,case,parameter,value,particles,end_time_s,status,stable,steps,retries,first_trouble_step,first_trouble_time_s,max_density_error,energy_drift,energy_growth_max,lost_particles,wall_s,cpu_s,message" 18
 
 for p in dam_break hydrostatic heat_diffusion layered; do
