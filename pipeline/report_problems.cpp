@@ -337,92 +337,14 @@ Measured runHeat(const Setting& s) {
 
 // ---- two fluids layered ----------------------------------------------------------------------
 
-constexpr double kLayerTime = 4.0, kLayer = 0.06;
+constexpr double kLayerTime = 4.0;
 
-// Rayleigh-Taylor: the heavy fluid (1000 kg/m^3) starts above the light one (500 kg/m^3), both
-// jittered by 0.1 spacing (seeded) so that the overturn does not wait on rounding noise; viscosity
-// and stiffness as in configs/two_fluids_mixed.toml. Variant "reference" is "mass" with the
-// hydrostatic reference the shipped two-fluid scenes set: the heavy fluid's density, level where a
-// column of it weighs what both layers weigh (1.5 layers).
+// Variant "reference" is "mass" with the hydrostatic reference (diagnostics.h, layeredScene).
 Scene layeredScene(const Setting& s) {
   const bool reference = s.variant == "reference";
-  const std::string pressure =
-      reference ? fmt::format("reference_density = 1000.0\nreference_level = {}\n", tomlReal(1.5 * kLayer)) : std::string();
-  const std::string text = fmt::format(R"(
-[scene]
-name = "layered"
-end_time = {end}
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.07]
-[solver]
-particle_spacing = {s}
-density_formulation = "{formulation}"
-max_dt = 0.002
-[[phase]]
-name = "light"
-rest_density = 500.0
-stiffness = 200.0
-viscosity = 0.5
-[[phase]]
-name = "heavy"
-rest_density = 1000.0
-stiffness = 200.0
-viscosity = 0.5
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.06]
-[[fluid]]
-phase = "light"
-min = [0.0, 0.0, 0.0]
-max = [0.1, {layer}, 0.06]
-jitter = 0.1
-seed = 1
-[[fluid]]
-phase = "heavy"
-min = [0.0, {layer}, 0.0]
-max = [0.1, {top}, 0.06]
-jitter = 0.1
-seed = 2
-[effects.gravity]
-[effects.pressure]
-{pressure}[effects.viscosity]
-)",
-                                       fmt::arg("end", tomlReal(kLayerTime)), fmt::arg("s", tomlReal(s.spacing)),
-                                       fmt::arg("formulation", reference ? "mass" : s.variant), fmt::arg("layer", tomlReal(kLayer)),
-                                       fmt::arg("pressure", pressure),
-                                       fmt::arg("top", tomlReal(2 * kLayer)));
-  return withFactor(parseScene(text, "<report:layered>", rungOverrides(s)), s);
-}
-
-// The settled interface lies where as many particles are below it as there are heavy ones (a
-// level that compression does not move). A heavy particle more than half a spacing above it, or
-// a light one more than half a spacing below, is on the wrong side. Error: their mass over the
-// total; extras: the fraction of each fluid's own mass.
-struct WrongSide {
-  double heavy = 0, light = 0, total = 0;  // kg on the wrong side; total fluid mass
-  double heavyMass = 0, lightMass = 0;
-};
-
-WrongSide wrongSide(const ParticleSet& ps, int heavy, double spacing) {
-  std::vector<double> y(ps.position.size());
-  size_t nHeavy = 0;
-  WrongSide w;
-  for (size_t i = 0; i < ps.size(); ++i) {
-    y[i] = ps.position[i].y;
-    nHeavy += ps.phase[i] == heavy;
-    (ps.phase[i] == heavy ? w.heavyMass : w.lightMass) += ps.mass[i];
-  }
-  w.total = w.heavyMass + w.lightMass;
-  if (nHeavy == 0 || nHeavy == y.size()) return w;
-  std::sort(y.begin(), y.end());
-  const double level = 0.5 * (y[nHeavy - 1] + y[nHeavy]);
-  for (size_t i = 0; i < ps.size(); ++i) {
-    const double yi = ps.position[i].y;
-    if (ps.phase[i] == heavy && yi > level + 0.5 * spacing) w.heavy += ps.mass[i];
-    if (ps.phase[i] != heavy && yi < level - 0.5 * spacing) w.light += ps.mass[i];
-  }
-  return w;
+  return withFactor(parseScene(mf::layeredScene(s.spacing, reference ? "mass" : s.variant, reference, kLayerTime),
+                               "<report:layered>", rungOverrides(s)),
+                    s);
 }
 
 Measured runLayered(const Setting& s) {
@@ -430,10 +352,10 @@ Measured runLayered(const Setting& s) {
   WrongSide w;
   Measured m = runCase(scene, [&](Simulation& sim, Stopwatch& sw) {
     sim.advanceTo(kLayerTime);
-    sw.exclude([&] { w = wrongSide(sim.particles(), scene.phaseIndex("heavy"), s.spacing); });
+    sw.exclude([&] { w = massOnTheWrongSide(sim.particles(), scene.phaseIndex("heavy"), s.spacing); });
   });
   if (m.status != "ok") return m;
-  m.error = (w.heavy + w.light) / w.total;
+  m.error = w.fraction();
   m.extras = {w.heavy / w.heavyMass, w.light / w.lightMass};
   return m;
 }

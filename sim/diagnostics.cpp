@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "simulation.h"
 
@@ -14,6 +15,75 @@ std::string tomlReal(double v) {
   std::string s = fmt::format("{:.10g}", v);
   if (s.find_first_of(".en") == std::string::npos) s += ".0";
   return s;
+}
+
+std::string layeredScene(double spacing, const std::string& densityFormulation, bool reference, double endTime) {
+  constexpr double kLayer = 0.06;
+  const std::string pressure =
+      reference ? fmt::format("reference_density = 1000.0\nreference_level = {}\n", tomlReal(1.5 * kLayer)) : std::string();
+  return fmt::format(R"(
+[scene]
+name = "layered"
+end_time = {end}
+domain_min = [-0.01, -0.01, -0.01]
+domain_max = [0.11, 0.21, 0.07]
+[solver]
+particle_spacing = {s}
+density_formulation = "{formulation}"
+max_dt = 0.002
+[[phase]]
+name = "light"
+rest_density = 500.0
+stiffness = 200.0
+viscosity = 0.5
+[[phase]]
+name = "heavy"
+rest_density = 1000.0
+stiffness = 200.0
+viscosity = 0.5
+[[solid]]
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.2, 0.06]
+[[fluid]]
+phase = "light"
+min = [0.0, 0.0, 0.0]
+max = [0.1, {layer}, 0.06]
+jitter = 0.1
+seed = 1
+[[fluid]]
+phase = "heavy"
+min = [0.0, {layer}, 0.0]
+max = [0.1, {top}, 0.06]
+jitter = 0.1
+seed = 2
+[effects.gravity]
+[effects.pressure]
+{pressure}[effects.viscosity]
+)",
+                     fmt::arg("end", tomlReal(endTime)), fmt::arg("s", tomlReal(spacing)),
+                     fmt::arg("formulation", densityFormulation), fmt::arg("layer", tomlReal(kLayer)),
+                     fmt::arg("pressure", pressure), fmt::arg("top", tomlReal(2 * kLayer)));
+}
+
+WrongSide massOnTheWrongSide(const ParticleSet& ps, int heavy, double spacing) {
+  std::vector<double> y(ps.size());
+  size_t nHeavy = 0;
+  WrongSide w;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    y[i] = ps.position[i].y;
+    nHeavy += ps.phase[i] == heavy;
+    (ps.phase[i] == heavy ? w.heavyMass : w.lightMass) += ps.mass[i];
+  }
+  if (nHeavy == 0 || nHeavy == y.size()) return w;
+  std::sort(y.begin(), y.end());
+  const double level = 0.5 * (y[nHeavy - 1] + y[nHeavy]);
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const double yi = ps.position[i].y;
+    if (ps.phase[i] == heavy && yi > level + 0.5 * spacing) w.heavy += ps.mass[i];
+    if (ps.phase[i] != heavy && yi < level - 0.5 * spacing) w.light += ps.mass[i];
+  }
+  return w;
 }
 
 std::string closedBoxScene(bool still, double scale, double spacing, double endTime) {

@@ -11,6 +11,7 @@ namespace mf {
 
 class Simulation;
 struct Scene;
+struct ParticleSet;
 
 /// Water (rho0 1000, k 1000, mu 0.1; WCSPH unless overridden) in a closed box 0.1 x 0.2 x 0.1 m, all lengths times
 /// `scale`: `still` fills it 0.1 m deep at rest; otherwise a 0.1 m block starts 0.05 m above the
@@ -27,6 +28,23 @@ double mechanicalEnergy(const Simulation& sim);
 /// The scene's gravity (zero without [effects.gravity]) and the height its energy counts from.
 Vec3 gravityOf(const Scene& scene);
 double floorHeightOf(const Scene& scene);
+
+/// Rayleigh-Taylor: 6 cm of a fluid of 1000 kg/m^3 (`heavy`) over 6 cm of one of 500 (`light`) in
+/// a closed 0.1 x 0.2 x 0.06 m box, mu = 0.5 Pa s and k = 200 (WCSPH) as in two_fluids_mixed, both
+/// jittered by 0.1 spacing (seeded) so that the overturn does not wait on rounding noise; no solver
+/// named. `reference`: the hydrostatic reference the shipped two-fluid scenes set, the heavy
+/// fluid's density with its level where a column of it weighs what both layers weigh (0.09 m).
+std::string layeredScene(double spacing, const std::string& densityFormulation, bool reference, double endTime);
+
+/// The layered problem's error. The settled interface lies where as many particles are below it as
+/// there are heavy ones (a level that compression does not move); a heavy particle more than half
+/// a spacing above it, or a light one more than half a spacing below, is on the wrong side.
+struct WrongSide {
+  double heavy = 0, light = 0;          // kg on the wrong side
+  double heavyMass = 0, lightMass = 0;  // each fluid's total
+  double fraction() const { return heavyMass + lightMass > 0 ? (heavy + light) / (heavyMass + lightMass) : 0; }
+};
+WrongSide massOnTheWrongSide(const ParticleSet& particles, int heavyPhase, double spacing);
 
 /// A number as a TOML float ("1.0", not "1"), 10 significant digits.
 std::string tomlReal(double v);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "sim/solids.h"
@@ -262,73 +263,19 @@ TEST(Dfsph, LayeredFluidsAtRestStayAtRestAtOneToTenAndOneToAThousand) {
   }
 }
 
-// A heavy layer over a light one (Rayleigh-Taylor, 1000 over 500 kg/m^3, 6 cm each, 1 cm spacing,
-// mu = 0.5 Pa s, jittered by 0.1 spacing): the report's layered problem with the hydrostatic
-// reference the shipped two-fluid scenes carry. Returns the mass more than half a spacing on the
-// wrong side of the level with as many particles below it as there are heavy ones, over the total.
-const char* kOverturn = R"([scene]
-name = "overturn"
-end_time = 4.0
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.07]
-[solver]
-particle_spacing = 0.01
-max_dt = 0.002
-[[phase]]
-name = "light"
-rest_density = 500.0
-viscosity = 0.5
-[[phase]]
-name = "heavy"
-rest_density = 1000.0
-viscosity = 0.5
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.06]
-[[fluid]]
-phase = "light"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.06, 0.06]
-jitter = 0.1
-seed = 1
-[[fluid]]
-phase = "heavy"
-min = [0.0, 0.06, 0.0]
-max = [0.1, 0.12, 0.06]
-jitter = 0.1
-seed = 2
-[effects.gravity]
-[effects.pressure]
-reference_density = 1000.0
-reference_level = 0.09
-[effects.viscosity]
-)";
-
-Real wrongSide(const mf::Simulation& sim) {
-  const auto& ps = sim.particles();
-  const int heavy = sim.scene().phaseIndex("heavy");
-  std::vector<Real> y;
-  size_t nHeavy = 0;
-  Real total = 0, wrong = 0;
-  for (size_t i = 0; i < ps.size(); ++i) y.push_back(ps.position[i].y), nHeavy += ps.phase[i] == heavy, total += ps.mass[i];
-  std::sort(y.begin(), y.end());
-  const Real level = 0.5 * (y[nHeavy - 1] + y[nHeavy]), half = 0.005;
-  for (size_t i = 0; i < ps.size(); ++i) {
-    const Real yi = ps.position[i].y;
-    if (ps.phase[i] == heavy ? yi > level + half : yi < level - half) wrong += ps.mass[i];
-  }
-  return wrong / total;
-}
-
+// A heavy layer over a light one: the report's layered problem (mf::layeredScene: Rayleigh-Taylor,
+// 1000 over 500 kg/m^3, 6 cm each, mu = 0.5 Pa s, jittered by 0.1 spacing) at 1 cm, with the
+// hydrostatic reference the shipped two-fluid scenes carry, on the default solver.
 TEST(Dfsph, AHeavyLayerOverALightOneOverturnsWithTheHydrostaticReference) {
-  mf::Simulation sim(mf::parseScene(kOverturn, "overturn.toml"));
+  mf::Simulation sim(mf::parseScene(mf::layeredScene(0.01, "mass", true, 4.0), "overturn.toml", {"solver.pressure=\"dfsph\""}));
   ASSERT_EQ(sim.scene().solver.pressure, mf::PressureSolverChoice::DFSPH);
-  const Real start = wrongSide(sim);
+  const int heavy = sim.scene().phaseIndex("heavy");
+  auto wrongSide = [&] { return mf::massOnTheWrongSide(sim.particles(), heavy, 0.01).fraction(); };
+  const Real start = wrongSide();
   sim.advanceTo(2.0);
-  const Real atTwo = wrongSide(sim);
+  const Real atTwo = wrongSide();
   sim.advanceTo(4.0);
-  const Real atFour = wrongSide(sim);
+  const Real atFour = wrongSide();
   fmt::print("wrong side: {:.1f} % at 0 s, {:.2f} % at 2 s, {:.2f} % at 4 s; {} retries, {} clamps\n", 100 * start,
              100 * atTwo, 100 * atFour, sim.counters().retries, sim.counters().wallClamps);
   EXPECT_GT(start, 0.9);  // seeded upside down: all but what lies within half a spacing of the level (91.8 %)
