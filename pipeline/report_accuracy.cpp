@@ -68,7 +68,7 @@ Table resultTable(const Problem& p, const std::vector<Measured>& results) {
 // Gnuplot data block of (wall, error, label) of one solver's settings with an error, by wall
 // time; `onlyFront` keeps its Pareto points (joined by a line in the plot). A log axis has no
 // zero, so an error of exactly 0 (the layered problem: no particle on the wrong side) is drawn at
-// `zeroAt`, below every other point, and labelled "= 0".
+// `zeroAt`, below every other point, and labelled "error = 0".
 std::string dataBlock(const std::string& name, const Problem& p, const std::vector<Measured>& r, bool alt,
                       bool onlyFront, const std::string& solver, double zeroAt) {
   const std::vector<bool> front = frontOf(p, r, alt, solver);
