@@ -265,12 +265,13 @@ TEST(Dfsph, LayeredFluidsAtRestStayAtRestAtOneToTenAndOneToAThousand) {
 
 // A heavy layer over a light one: the report's layered problem (mf::layeredScene: Rayleigh-Taylor,
 // 1000 over 500 kg/m^3, 6 cm each, mu = 0.5 Pa s, jittered by 0.1 spacing) at 1 cm, with the
-// hydrostatic reference the shipped two-fluid scenes carry, on the default solver.
+// hydrostatic reference the shipped two-fluid scenes carry, on DFSPH (named: the scene's stiffness
+// keys are WCSPH's, and a scene that carries them must name its solver).
 TEST(Dfsph, AHeavyLayerOverALightOneOverturnsWithTheHydrostaticReference) {
   mf::Simulation sim(mf::parseScene(mf::layeredScene(0.01, "mass", true, 4.0), "overturn.toml", {"solver.pressure=\"dfsph\""}));
   ASSERT_EQ(sim.scene().solver.pressure, mf::PressureSolverChoice::DFSPH);
   const int heavy = sim.scene().phaseIndex("heavy");
-  auto wrongSide = [&] { return mf::massOnTheWrongSide(sim.particles(), heavy, 0.01).fraction(); };
+  auto wrongSide = [&] { return mf::massOnTheWrongSide(sim.particles(), heavy, sim.particleSpacing()).fraction(); };
   const Real start = wrongSide();
   sim.advanceTo(2.0);
   const Real atTwo = wrongSide();
