@@ -52,6 +52,11 @@ std::vector<std::string> wcsphBaseline(const std::string& scene) {
     return v;
   }
   if (scene == "boiling") return stiffness({"water", "vapour", "flame"}, 400);
+  if (scene == "pour_glass") {
+    auto v = stiffness({"water", "air"}, 500);
+    v.push_back("effects.trapped_air.generation_threshold=0.6");
+    return v;
+  }
   return {};
 }
 

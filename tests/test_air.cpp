@@ -34,7 +34,7 @@ end_time = 1.0
 domain_min = [-0.05, -0.05, -0.05]
 domain_max = [0.21, 0.4, 0.21]
 [solver]
-pressure = "wcsph"  # as pour_glass ships: on DFSPH the jet below traps 9 air particles, not 10 (docs/pressure_solvers.md)
+pressure = "wcsph"  # the solver the rule was measured on: on DFSPH the jet below traps 9 air particles, not 10 (docs/pressure_solvers.md)
 particle_spacing = 0.01
 density_formulation = "number"
 max_dt = 0.002
