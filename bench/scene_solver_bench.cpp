@@ -52,6 +52,7 @@ std::vector<std::string> wcsphBaseline(const std::string& scene) {
     return v;
   }
   if (scene == "boiling") return stiffness({"water", "vapour", "flame"}, 400);
+  if (scene == "diffusion") return stiffness({"liquid"}, 100);
   if (scene == "pour_glass") {
     auto v = stiffness({"water", "air"}, 500);
     v.push_back("effects.trapped_air.generation_threshold=0.6");
