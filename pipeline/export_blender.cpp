@@ -143,6 +143,8 @@ int exportBlender(const BlenderExportOptions& opt) {
   std::string containers;
   for (size_t j = 0; j < scene.solids.size(); ++j)
     containers += (containers.empty() ? "" : ",\n  ") + containerMesh(scene.solids[j], rs.solidMaterials[j]);
+  for (const PropSpec& prop : rs.props)  // the render stage's props: meshes like the containers'
+    containers += (containers.empty() ? "" : ",\n  ") + containerMesh(prop.shape, prop.material);
   // A moving camera: its pose at every exported frame, keyed frame by frame in Blender.
   std::string cameraFrames;
   if (!rs.cameraKeys.empty())

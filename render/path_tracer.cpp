@@ -558,6 +558,8 @@ std::vector<Surface> solidSurfaces(const Scene& scene) {
     if (!m.visible) continue;
     out.push_back({scene.solids[i].name.empty() ? "solid" : scene.solids[i].name, solidMesh(scene.solids[i], m.thickness), m, true});
   }
+  for (const PropSpec& prop : scene.render.props)
+    if (prop.material.visible) out.push_back({prop.shape.name, solidMesh(prop.shape, prop.material.thickness), prop.material, true});
   return out;
 }
 

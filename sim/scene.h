@@ -255,6 +255,13 @@ struct CameraKey {
   Real fov = 40;  // vertical, degrees
 };
 
+/// An object only the render stage sees ([[render.prop]]: a lamp's base and cap): a solid's
+/// shape, drawn as a shell of the material's thickness around it, opaque and diffuse by default.
+struct PropSpec {
+  SolidSpec shape;
+  MaterialSpec material;
+};
+
 /// The render stage's camera, lights and materials.
 struct RenderSettings {
   int width = 480, height = 270;
@@ -283,6 +290,7 @@ struct RenderSettings {
   Real checkerSize = 0.05;          // m; 0: plain
   std::vector<MaterialSpec> phaseMaterials;  // one per phase
   std::vector<MaterialSpec> solidMaterials;  // one per solid
+  std::vector<PropSpec> props;
 };
 
 struct Scene {

@@ -230,6 +230,9 @@ class TableReader {
 
 /// [[solid]] and [[fluid]] (with [[fluid.subtract]]), after [[phase]] is read.
 void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc);
+/// A solid's shape keys (shape, open_top, min/max, base/radius/height, profile): the
+/// containers' and the render stage's props.
+void readShape(Reader& r, TableReader& t, SolidSpec& s);
 
 /// [render] and [render.material.NAME] (NAME: a phase or a solid), after [surfacing] is read.
 void readRender(Reader& r, TableReader& top, Scene& sc);

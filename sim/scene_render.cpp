@@ -309,6 +309,18 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
       }
     }
   }
+  // [[render.prop]]: a solid's shape keys and a material's, opaque and diffuse unless it says.
+  const auto propTables = t.tables("prop");
+  if (propTables.size() > 100) r.problemAt(t.line(), "render.prop", fmt::format("{} props; at most 100", propTables.size()));
+  for (size_t k = 0; k < propTables.size() && k < 100; ++k) {
+    TableReader pt(r, propTables[k], fmt::format("render.prop[{}]", k));
+    PropSpec prop;
+    prop.shape.name = pt.text("name", fmt::format("prop{}", k));
+    readShape(r, pt, prop.shape);
+    prop.material.kind = MaterialSpec::Kind::Diffuse;
+    readMaterial(pt, prop.material, true);
+    o.props.push_back(prop);
+  }
   // A ramp reads a grid that surfacing writes: its attribute must be in surfacing.attributes.
   for (size_t p = 0; p < sc.phases.size(); ++p)
     for (const auto& [key, ramp] : {std::pair<const char*, const ColourRamp*>{"absorption_ramp", &o.phaseMaterials[p].absorptionRamp},
@@ -329,7 +341,12 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
     solidBounds(sc.solids[j], o.solidMaterials[j].thickness, a, b);
     lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
   }
-  const bool solids = !sc.solids.empty();
+  for (const PropSpec& prop : o.props) {
+    Vec3 a, b;
+    solidBounds(prop.shape, prop.material.thickness, a, b);
+    lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
+  }
+  const bool solids = !sc.solids.empty() || !o.props.empty();
   if (!solids)
     for (const FluidBlockSpec& f : sc.fluids) {
       Vec3 a, b;

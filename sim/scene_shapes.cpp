@@ -40,6 +40,48 @@ void readRegion(TableReader& t, FluidRegion& f) {
 }  // namespace
 
 /// See scene_reader.h.
+/// See scene_reader.h.
+void readShape(Reader& r, TableReader& t, SolidSpec& s) {
+  const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
+  s.openTop = t.boolean("open_top", false);
+  if (shape == "box") {
+    s.shape = SolidSpec::Shape::Box;
+    s.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
+    s.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
+    t.requireIncreasing(s.min, s.max, "max", "min");
+  } else if (shape == "cylinder") {
+    s.shape = SolidSpec::Shape::Cylinder;
+    s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+    s.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+    s.height = t.number("height", 1, 0, 1e6, "m", true, true);
+  } else {
+    s.shape = SolidSpec::Shape::Revolution;
+    s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+    const toml::node* pn = t.node("profile");
+    const toml::array* pa = pn ? pn->as_array() : nullptr;
+    bool ok = pa && pa->size() >= 2 && pa->size() <= 1000;
+    if (ok)
+      for (const toml::node& e : *pa) {
+        const toml::array* pt = e.as_array();
+        if (!pt || pt->size() != 2 || !pt->get(0)->value<double>() || !pt->get(1)->value<double>() ||
+            pt->get(0)->is_boolean() || pt->get(1)->is_boolean()) {
+          ok = false;
+          break;
+        }
+        s.profile.push_back({*pt->get(0)->value<double>(), *pt->get(1)->value<double>()});
+      }
+    for (size_t i = 0; ok && i < s.profile.size(); ++i)
+      ok = std::isfinite(s.profile[i].first) && std::isfinite(s.profile[i].second) && std::fabs(s.profile[i].first) <= 1e6 &&
+           s.profile[i].second >= 0 && s.profile[i].second <= 1e6 && (i == 0 || s.profile[i].first > s.profile[i - 1].first);
+    if (!ok) {
+      s.profile.clear();
+      if (pn) r.problem(pn, t.path("profile"), "expected 2 to 1000 points [height, radius] with increasing finite heights and radii in [0, 1e6] (m)");
+      else r.problemAt(t.line(), t.path("profile"), "missing; at least 2 points [height, radius] (m)");
+      s.profile = {{0, 1}, {1, 1}};
+    }
+  }
+}
+
 void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc) {
   const auto solidTables = top.tables("solid");
   // Every solid is tested against every particle in each step: a few containers, not a scene
@@ -52,44 +94,7 @@ void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc) {
     if (t.has("name")) r.name(t.node("name"), t.path("name"), s.name);
     for (const SolidSpec& other : sc.solids)
       if (other.name == s.name) r.problem(t.node("name"), t.path("name"), fmt::format("duplicate solid name \"{}\"", s.name));
-    const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
-    s.openTop = t.boolean("open_top", false);
-    if (shape == "box") {
-      s.shape = SolidSpec::Shape::Box;
-      s.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
-      s.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-      t.requireIncreasing(s.min, s.max, "max", "min");
-    } else if (shape == "cylinder") {
-      s.shape = SolidSpec::Shape::Cylinder;
-      s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
-      s.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
-      s.height = t.number("height", 1, 0, 1e6, "m", true, true);
-    } else {
-      s.shape = SolidSpec::Shape::Revolution;
-      s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
-      const toml::node* pn = t.node("profile");
-      const toml::array* pa = pn ? pn->as_array() : nullptr;
-      bool ok = pa && pa->size() >= 2 && pa->size() <= 1000;
-      if (ok)
-        for (const toml::node& e : *pa) {
-          const toml::array* pt = e.as_array();
-          if (!pt || pt->size() != 2 || !pt->get(0)->value<double>() || !pt->get(1)->value<double>() ||
-              pt->get(0)->is_boolean() || pt->get(1)->is_boolean()) {
-            ok = false;
-            break;
-          }
-          s.profile.push_back({*pt->get(0)->value<double>(), *pt->get(1)->value<double>()});
-        }
-      for (size_t i = 0; ok && i < s.profile.size(); ++i)
-        ok = std::isfinite(s.profile[i].first) && std::isfinite(s.profile[i].second) && std::fabs(s.profile[i].first) <= 1e6 &&
-             s.profile[i].second >= 0 && s.profile[i].second <= 1e6 && (i == 0 || s.profile[i].first > s.profile[i - 1].first);
-      if (!ok) {
-        s.profile.clear();
-        if (pn) r.problem(pn, t.path("profile"), "expected 2 to 1000 points [height, radius] with increasing finite heights and radii in [0, 1e6] (m)");
-        else r.problemAt(t.line(), t.path("profile"), "missing; at least 2 points [height, radius] (m)");
-        s.profile = {{0, 1}, {1, 1}};
-      }
-    }
+    readShape(r, t, s);
     sc.solids.push_back(s);
   }
 

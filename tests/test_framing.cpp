@@ -6,9 +6,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "render/camera.h"
+#include "render/path_tracer.h"
 #include "render/render_frame.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
@@ -20,8 +22,12 @@ namespace fs = std::filesystem;
 namespace {
 
 double frameZeroCoverage(const std::string& name) {
-  // Small and fast: coverage needs no samples, only the camera and the surfaces.
-  const mf::Scene scene = mf::loadScene(name, {"render.width=96", "render.height=54"});
+  // Small and fast: coverage needs no samples, only the camera and the surfaces. The scene's own
+  // aspect (the lamp's frame is portrait), 96 pixels on its longer side.
+  const mf::Scene shipped = mf::loadScene(name);
+  const int w = shipped.render.width, h = shipped.render.height, longer = std::max(w, h);
+  const mf::Scene scene = mf::loadScene(name, {fmt::format("render.width={}", std::max(8, 96 * w / longer)),
+                                               fmt::format("render.height={}", std::max(8, 96 * h / longer))});
   const fs::path dir = fs::temp_directory_path() / ("mf_framing_" + std::to_string(::getpid()) + "_" + name);
   fs::create_directories(dir);
   mf::Simulation sim(scene);
@@ -61,6 +67,35 @@ TEST(Framing, WithoutCameraKeysTheSolidsAreFramedAndTheTableIsUnderThem) {
   const mf::Scene dam = mf::loadScene("dam_break");
   EXPECT_TRUE(dam.render.cameraFraming.empty());
   EXPECT_DOUBLE_EQ(dam.render.cameraPosition.z, 0.42);
+}
+
+// [[render.prop]]: the lamp's base and cap, and any object only the render stage draws. It is
+// a surface of the frame (opaque and diffuse by default), counts for the table and the framing,
+// and takes no part in the simulation: the same boundary samples and the same simulation hash.
+TEST(Props, APropIsDrawnButNotSimulated) {
+  const std::string prop =
+      "render.prop=[{name=\"stand\", shape=\"cylinder\", base=[0.1, -0.2, 0.1], radius=0.08, height=0.19, "
+      "thickness=0.004, colour=[0.3, 0.3, 0.3]}]";
+  const mf::Scene plain = mf::loadScene("water_oil"), withProp = mf::loadScene("water_oil", {prop});
+  ASSERT_EQ(withProp.render.props.size(), 1u);
+  const mf::PropSpec& p = withProp.render.props[0];
+  EXPECT_EQ(p.shape.name, "stand");
+  EXPECT_TRUE(p.material.kind == mf::MaterialSpec::Kind::Diffuse);
+  EXPECT_EQ(withProp.simulationHash, plain.simulationHash);
+  EXPECT_EQ(mf::Simulation(withProp).boundary().size(), mf::Simulation(plain).boundary().size());
+  const auto surfaces = mf::render::solidSurfaces(withProp);
+  ASSERT_EQ(surfaces.size(), mf::render::solidSurfaces(plain).size() + 1);
+  EXPECT_EQ(surfaces.back().name, "stand");
+  EXPECT_GT(surfaces.back().mesh.size(), 100u);
+  // The table goes under the stand's outer wall, now the lowest thing in the scene.
+  EXPECT_NEAR(withProp.render.floorHeight, -0.2 - 0.004, 1e-12);
+  // Its keys are checked like a solid's: a named key, a range.
+  try {
+    mf::loadScene("water_oil", {"render.prop=[{shape=\"cylinder\", base=[0.0, 0.0, 0.0], radius=-1.0, height=0.1}]"});
+    FAIL() << "a negative radius must be refused";
+  } catch (const mf::SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("render.prop[0].radius"), std::string::npos) << e.what();
+  }
 }
 
 // [[render.camera_key]]: a cubic Hermite spline per coordinate with Catmull-Rom tangents on the
