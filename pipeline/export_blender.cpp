@@ -140,11 +140,12 @@ int exportBlender(const BlenderExportOptions& opt) {
     fluids += fmt::format(R"({}{{"name": {}, "grid": {}, "material": {}, "ply_meshes": [{}]}})", fluids.empty() ? "" : ",\n  ",
                           str(name), str(name), material(rs.phaseMaterials[p], name), meshes);
   }
-  std::string containers;
-  for (size_t j = 0; j < scene.solids.size(); ++j)
-    containers += (containers.empty() ? "" : ",\n  ") + containerMesh(scene.solids[j], rs.solidMaterials[j]);
-  for (const PropSpec& prop : rs.props)  // the render stage's props: meshes like the containers'
-    containers += (containers.empty() ? "" : ",\n  ") + containerMesh(prop.shape, prop.material);
+  std::string containers;  // the solids, then the render stage's props: meshes alike
+  auto addMesh = [&](const SolidSpec& shape, const MaterialSpec& m) {
+    containers += (containers.empty() ? "" : ",\n  ") + containerMesh(shape, m);
+  };
+  for (size_t j = 0; j < scene.solids.size(); ++j) addMesh(scene.solids[j], rs.solidMaterials[j]);
+  for (const PropSpec& prop : rs.props) addMesh(prop.shape, prop.material);
   // A moving camera: its pose at every exported frame, keyed frame by frame in Blender.
   std::string cameraFrames;
   if (!rs.cameraKeys.empty())

@@ -332,20 +332,17 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
                     "reads \"" + ramp->attribute + "\", which surfacing does not write: add it to surfacing.attributes");
       }
     }
-  // The solids' outer bounds: the table top sits under the lowest (the domain's floor only
-  // without solids: a domain reaching below the glass left it floating above the table), and
-  // without camera keys the camera frames them (or the fluid blocks, without solids).
+  // The outer bounds of the solids and props: the table top sits under the lowest (the domain's
+  // floor only without them: a domain reaching below the glass left it floating above the
+  // table), and without camera keys the camera frames them (or the fluid blocks, without any).
   Vec3 lo(1e30, 1e30, 1e30), hi(-1e30, -1e30, -1e30);
-  for (size_t j = 0; j < sc.solids.size(); ++j) {
+  auto include = [&](const SolidSpec& shape, Real thickness) {
     Vec3 a, b;
-    solidBounds(sc.solids[j], o.solidMaterials[j].thickness, a, b);
+    solidBounds(shape, thickness, a, b);
     lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
-  }
-  for (const PropSpec& prop : o.props) {
-    Vec3 a, b;
-    solidBounds(prop.shape, prop.material.thickness, a, b);
-    lo = cwiseMin(lo, a), hi = cwiseMax(hi, b);
-  }
+  };
+  for (size_t j = 0; j < sc.solids.size(); ++j) include(sc.solids[j], o.solidMaterials[j].thickness);
+  for (const PropSpec& prop : o.props) include(prop.shape, prop.material.thickness);
   const bool solids = !sc.solids.empty() || !o.props.empty();
   if (!solids)
     for (const FluidBlockSpec& f : sc.fluids) {
