@@ -11,7 +11,7 @@
 #include <ctime>
 
 #include "render/path_tracer.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 
 using namespace mf;
 
@@ -63,11 +63,11 @@ light_radius = 0.08
 checker_size = 0.03
 )",
                                        width, height, samples);
-  const Scene sc = parseScene(text, "bench");
+  const SceneStages sc = parseSceneStages(text, "bench");
   auto ball = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.045f, openvdb::Vec3f(0, 0.05f, 0), 0.001f, 3.0f);
   std::vector<render::Surface> surfaces;
   surfaces.push_back({"water", render::levelSetMesh(*ball), sc.render.phaseMaterials[0]});
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   render::PathTracer tracer(std::move(surfaces), sc.render);
 
   render::RenderStats full;

@@ -36,7 +36,7 @@
 #include "bench/rel_rmse.h"
 #include "render/denoise.h"
 #include "render/path_tracer.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 
 using namespace mf;
 
@@ -152,13 +152,13 @@ std::unique_ptr<render::PathTracer> makeScene(const std::string& name, int spp, 
   if (reference) overrides.push_back("render.indirect_clamp=0");
   else overrides.insert(overrides.end(), extraKeys.begin(), extraKeys.end());
   const char* text = name == "glass" ? kGlass : kLamp;
-  Scene sc;
+  SceneStages sc;
   try {
     auto withSeed = overrides;
     if (animated) withSeed.push_back("render.animated_seed=true");
-    sc = parseScene(text, name, withSeed);
+    sc = parseSceneStages(text, name, withSeed);
   } catch (const std::exception&) {
-    sc = parseScene(text, name, overrides);
+    sc = parseSceneStages(text, name, overrides);
   }
   std::vector<render::Surface> surfaces;
   if (name == "glass") {
@@ -168,7 +168,7 @@ std::unique_ptr<render::PathTracer> makeScene(const std::string& name, int spp, 
     auto blob = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.09f, openvdb::Vec3f(0.02f, 0.15f, 0), 0.004f, 3.0f);
     surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
   }
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   return std::make_unique<render::PathTracer>(std::move(surfaces), sc.render);
 }
 

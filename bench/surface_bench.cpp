@@ -22,7 +22,7 @@
 #include <sstream>
 #include <thread>
 
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 #include "surfacing/mesh_io.h"
 #include "surfacing/particle_surface.h"
 
@@ -127,7 +127,7 @@ Result isolated(F&& f) {
 using Clock = std::chrono::steady_clock;
 
 Result ours(const std::vector<Vec3d>& p, double spacing, bool rough) {
-  const mf::Scene scene = mf::loadScene("dam_break");
+  const mf::SceneStages scene = mf::loadSceneStages("dam_break");
   const auto t0 = Clock::now();
   const auto s = mf::surfacing::particlesToSurface(p, {}, spacing, scene.surfacing);
   Result r;
@@ -138,7 +138,7 @@ Result ours(const std::vector<Vec3d>& p, double spacing, bool rough) {
 }
 
 Result openvdbRoute(const std::vector<Vec3d>& p, double spacing, int iterations, bool rough) {
-  const mf::Scene scene = mf::loadScene("dam_break");
+  const mf::SceneStages scene = mf::loadSceneStages("dam_break");
   const double voxel = scene.surfacing.voxelRatio * spacing;
   const auto t0 = Clock::now();
   auto ls = openvdb::createLevelSet<openvdb::FloatGrid>(voxel, 3.0);

@@ -12,10 +12,10 @@
 
 #include "pipeline/process.h"
 #include "pipeline/run_folder.h"
+#include "pipeline/scene_stages.h"
 #include "render/camera.h"
 #include "render/geometry.h"
 #include "sim/file_util.h"
-#include "sim/scene_file.h"
 
 #ifndef MULTIFLUID_BLENDER_SCRIPT
 #define MULTIFLUID_BLENDER_SCRIPT ""
@@ -99,8 +99,9 @@ int exportBlender(const BlenderExportOptions& opt) {
                              "apt-get install blender)");
   const std::string script = blenderScriptPath();
   // The scene as run: its copy in the folder, with the overrides of that run already applied.
-  const Scene scene = loadScene((dir / "scene.toml").string());
-  const RenderSettings& rs = scene.render;
+  const SceneStages stages = loadSceneStages((dir / "scene.toml").string());
+  const Scene& scene = stages.scene;
+  const RenderSettings& rs = stages.render;
 
   // The first unbroken run of finished surface frames (like the movie), checked by their records.
   const FrameRecords records(dir);
@@ -120,7 +121,7 @@ int exportBlender(const BlenderExportOptions& opt) {
   auto surfaceFile = [&](int f) { return dir / "surface" / fmt::format("surface.{:04d}.vdb", f); };
   auto meshFile = [&](const std::string& phase, int f) { return dir / "mesh" / fmt::format("{}.{:04d}.ply", phase, f); };
   if (opt.meshes == "ply") {
-    if (!scene.surfacing.meshPly)
+    if (!stages.surfacing.meshPly)
       throw std::runtime_error(fmt::format("export --meshes ply: the run wrote no PLY meshes (surfacing.meshes has no \"ply\"); "
                                            "export the level sets (--meshes vdb), or delete {}/records/surface.* and run: multifluid "
                                            "surface {}/scene.toml --out {} --set 'surfacing.meshes=[\"ply\"]'",
@@ -169,7 +170,7 @@ int exportBlender(const BlenderExportOptions& opt) {
       " \"fluids\": [{}],\n"
       " \"containers\": [{}]}}\n",
       str(scene.name), str(dir.string()), num(scene.frameRate), first, last, str(surfaceFile(first).string()),
-      num(scene.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
+      num(stages.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
       str(rs.cameraFraming), cameraFrames, rs.width, rs.height, rs.samples, rs.maxDepth,
       vec(rs.lightPosition), num(rs.lightRadius), vec(rs.lightEmission), vec(rs.skyZenith), vec(rs.skyHorizon), vec(rs.skyGround),
       rs.floor ? "true" : "false", num(rs.floorHeight), num(rs.checkerSize), str(opt.meshes), fluids, containers);

@@ -18,6 +18,7 @@
 #include "pipeline/report.h"
 #include "pipeline/stages.h"
 #include "render/image.h"
+#include "pipeline/scene_stages.h"
 #include "sim/scene_budget.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -156,8 +157,9 @@ void addFarmCommands(CLI::App& app, Options& opt) {
   }
 }
 
-/// The scene, with the command line's render settings, and its budget checked.
-mf::Scene loadCheckedScene(const Options& opt, mf::SceneBudget* budgetOut = nullptr) {
+/// The scene with every stage's settings (the command line's render settings applied), and its
+/// budget checked.
+mf::SceneStages loadCheckedScene(const Options& opt, mf::SceneBudget* budgetOut = nullptr) {
   std::vector<std::string> sets = opt.sets;
   if (!opt.resolution.empty()) {
     const size_t x = opt.resolution.find('x');
@@ -165,18 +167,20 @@ mf::Scene loadCheckedScene(const Options& opt, mf::SceneBudget* budgetOut = null
     sets.push_back("render.height=" + opt.resolution.substr(x + 1));
   }
   if (opt.samples > 0) sets.push_back(fmt::format("render.samples={}", opt.samples));
-  mf::Scene scene = mf::loadScene(opt.scene, sets);
+  mf::SceneStages stages = mf::loadSceneStages(opt.scene, sets);
   mf::BudgetLimits limits;
   if (opt.maxMemoryMiB > 0) limits.maxMemoryBytes = opt.maxMemoryMiB * 1024 * 1024;
   limits.maxStepsPerFrame = opt.maxStepsPerFrame;
   limits.force = opt.force;
-  const mf::SceneBudget budget = mf::checkSceneBudget(scene, limits);
+  const mf::SceneBudget budget =
+      mf::checkSceneBudget(stages.scene, limits, {stages.surfacing.voxelRatio, double(stages.render.width), double(stages.render.height)});
   if (budgetOut) *budgetOut = budget;
-  return scene;
+  return stages;
 }
 
 int runStagesCommand(const Options& opt) {
-  const mf::Scene scene = loadCheckedScene(opt);
+  const mf::SceneStages stages = loadCheckedScene(opt);
+  const mf::Scene& scene = stages.scene;
   mf::pipeline::StageOptions so;
   so.threads = opt.threads;
   so.maxStepsPerFrame = opt.maxStepsPerFrame;
@@ -207,7 +211,7 @@ int runStagesCommand(const Options& opt) {
   const fs::path out = opt.out.empty() ? fs::path("runs") / scene.name : fs::path(opt.out);
   std::unique_ptr<tbb::global_control> threads;
   if (opt.threads > 0) threads = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, opt.threads);
-  return mf::pipeline::runStages(scene, so, out);
+  return mf::pipeline::runStages(stages, so, out);
 }
 
 int farmSubmitCommand(Options opt) {
@@ -226,7 +230,7 @@ int farmSubmitCommand(Options opt) {
     if (fo.timeLimitSeconds <= 0)
       throw UsageError("--time " + opt.timeLimit + ": takes M, M:S, H:M:S, D-H, D-H:M or D-H:M:S (more than 0 s), e.g. 2:00:00");
   }
-  const mf::Scene scene = loadCheckedScene(opt);
+  const mf::Scene scene = loadCheckedScene(opt).scene;
   fo.firstFrame = 0, fo.lastFrame = scene.lastFrame();
   if (!opt.frames.empty()) {
     const size_t dash = opt.frames.find('-');
@@ -254,7 +258,7 @@ int farmSubmitCommand(Options opt) {
 
 int validate(const Options& opt) {
   mf::SceneBudget b;
-  const mf::Scene scene = loadCheckedScene(opt, &b);
+  const mf::Scene scene = loadCheckedScene(opt, &b).scene;
   fmt::print("{}: valid scene '{}', {} phase(s), {} solid(s), {} fluid block(s), effects:", scene.sourceFile, scene.name,
              scene.phases.size(), scene.solids.size(), scene.fluids.size());
   for (const auto& e : scene.effects) fmt::print(" {}", e.name);

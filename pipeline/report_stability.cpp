@@ -237,11 +237,11 @@ double energyOf(const Simulation& sim) {
   if (sim.scene().solver.pressure == PressureSolverChoice::WCSPH) return mechanicalEnergy(sim);
   const ParticleSet& ps = sim.particles();
   const Vec3 g = gravityOf(sim.scene());
-  const double floorY = floorHeightOf(sim.scene());
+  const double datumY = potentialDatumOf(sim.scene());
   double e = 0;
   for (size_t i = 0; i < ps.size(); ++i)
     e += ps.mass[i] * (0.5 * lengthSquared(ps.velocity[i]) -
-                       (g.x * ps.position[i].x + g.y * (ps.position[i].y - floorY) + g.z * ps.position[i].z));
+                       (g.x * ps.position[i].x + g.y * (ps.position[i].y - datumY) + g.z * ps.position[i].z));
   return e;
 }
 

@@ -253,7 +253,8 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
       }();
 }
 
-std::string runSurfacing(const StageOptions& opt, const Scene& scene, const fs::path& out, const FrameRecords& records) {
+std::string runSurfacing(const StageOptions& opt, const Scene& scene, const SurfacingSettings& settings, const fs::path& out,
+                         const FrameRecords& records) {
   const int lastFrame = lastFrameToRun(opt, scene);
   const auto t0 = Clock::now();
   int done = 0, skipped = 0, missing = 0;
@@ -270,14 +271,14 @@ std::string runSurfacing(const StageOptions& opt, const Scene& scene, const fs::
     }
     const auto f0 = Clock::now();
     discardFrame(records, "surface", f, {surfaceFile(out, f)});
-    const auto r = surfacing::surfaceFrame(particles.string(), scene, surfaceFile(out, f).string(), (out / "mesh").string(), f);
+    const auto r = surfacing::surfaceFrame(particles.string(), scene, settings, surfaceFile(out, f).string(), (out / "mesh").string(), f);
     std::vector<fs::path> written(r.written.begin(), r.written.end());
     records.write("surface", f, written);
     ++done;
     voxels += r.activeVoxels;
     const double elapsed = seconds(Clock::now() - t0);
     fmt::print(stderr, "[surface {:4d}/{}] {} phase(s), {} active voxels, {:.2f} s  elapsed {}  left ~{}\n", f, lastFrame,
-               scene.surfacing.phases.size(), r.activeVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
+               settings.phases.size(), r.activeVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
                formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
   }
   const double total = seconds(Clock::now() - t0);
@@ -286,13 +287,14 @@ std::string runSurfacing(const StageOptions& opt, const Scene& scene, const fs::
                      total, done, done > 0 ? total / done : 0.0, done > 0 ? double(voxels) / done : 0.0, skipped);
 }
 
-std::string runRender(const StageOptions& opt, const Scene& scene, const fs::path& out, const FrameRecords& records) {
+std::string runRender(const StageOptions& opt, const Scene& scene, const RenderSettings& settings, const fs::path& out,
+                      const FrameRecords& records) {
   const int lastFrame = lastFrameToRun(opt, scene);
   const auto t0 = Clock::now();
   int done = 0, skipped = 0, missing = 0;
   uint64_t rays = 0;
   double traceSeconds = 0;
-  if (!scene.render.cameraFraming.empty()) fmt::print(stderr, "render: {}\n", scene.render.cameraFraming);
+  if (!settings.cameraFraming.empty()) fmt::print(stderr, "render: {}\n", settings.cameraFraming);
   std::vector<int> unseen, empty;
   for (int f = opt.firstFrame; f <= lastFrame; ++f) {
     if (records.verify("render", f)) {
@@ -314,7 +316,7 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
     };
     const fs::path exr = renderFile(out, f, "exr"), png = renderFile(out, f, "png");
     discardFrame(records, "render", f, {exr, png});
-    const auto r = render::renderFrame(surfaceFile(out, f).string(), scene, exr.string(), png.string(), f, progress);
+    const auto r = render::renderFrame(surfaceFile(out, f).string(), scene, settings, exr.string(), png.string(), f, progress);
     records.write("render", f, {exr, png});
     if (!r.anyFluid) empty.push_back(f);
     else if (r.fluidCoverage == 0) unseen.push_back(f);
@@ -323,7 +325,7 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
     traceSeconds += r.seconds;
     const double elapsed = seconds(Clock::now() - t0);
     fmt::print(stderr, "[render  {:4d}/{}] {}x{} x {} spp, {} triangles, {:.2f} Mrays/s, {:.2f} s  elapsed {}  left ~{}\n", f,
-               lastFrame, scene.render.width, scene.render.height, scene.render.samples, r.triangles,
+               lastFrame, settings.width, settings.height, settings.samples, r.triangles,
                r.seconds > 0 ? r.rays / r.seconds / 1e6 : 0.0, seconds(Clock::now() - f0), formatDuration(elapsed),
                formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
   }
@@ -342,7 +344,8 @@ std::string runRender(const StageOptions& opt, const Scene& scene, const fs::pat
                      done, done > 0 ? total / done : 0.0, traceSeconds > 0 ? rays / traceSeconds / 1e6 : 0.0, skipped);
 }
 
-std::string runPreview(const StageOptions& opt, const Scene& scene, const fs::path& out, const FrameRecords& records) {
+std::string runPreview(const StageOptions& opt, const Scene& scene, const RenderSettings& settings, const fs::path& out,
+                       const FrameRecords& records) {
   const int lastFrame = lastFrameToRun(opt, scene);
   const auto t0 = Clock::now();
   int done = 0, skipped = 0;
@@ -353,7 +356,7 @@ std::string runPreview(const StageOptions& opt, const Scene& scene, const fs::pa
     }
     if (!awaitInput(opt, records, "particles", f, particleFile(out, f), "sim")) continue;
     discardFrame(records, "preview", f, {previewFile(out, f)});
-    const auto r = render::renderPreview(particleFile(out, f).string(), scene, previewFile(out, f).string(), opt.previewColour);
+    const auto r = render::renderPreview(particleFile(out, f).string(), scene, settings, previewFile(out, f).string(), opt.previewColour);
     records.write("preview", f, {previewFile(out, f)});
     ++done;
     if (seconds(Clock::now() - t0) > 2 || f == lastFrame)
@@ -439,7 +442,8 @@ std::string framesPresent(const StageOptions& opt, const Scene& scene, const Fra
 
 }  // namespace
 
-int runStages(const Scene& scene, const StageOptions& opt, const fs::path& out) {
+int runStages(const SceneStages& stages, const StageOptions& opt, const fs::path& out) {
+  const Scene& scene = stages.scene;
   fs::create_directories(out);
   const int last = lastFrameToRun(opt, scene);
   std::vector<LockScope> scopes;
@@ -455,9 +459,9 @@ int runStages(const Scene& scene, const StageOptions& opt, const fs::path& out) 
   if (opt.sim) summary += runSimulation(opt, scene, out, records);
   else writeSceneCopy(scene, out);
   if (summary.empty()) summary = fmt::format("\nsummary for {}\n", scene.name);
-  if (opt.surface) summary += runSurfacing(opt, scene, out, records);
-  if (opt.render) summary += runRender(opt, scene, out, records);
-  if (opt.preview) summary += runPreview(opt, scene, out, records);
+  if (opt.surface) summary += runSurfacing(opt, scene, stages.surfacing, out, records);
+  if (opt.render) summary += runRender(opt, scene, stages.render, out, records);
+  if (opt.preview) summary += runPreview(opt, scene, stages.render, out, records);
   if (opt.encode) summary += runEncode(opt, scene, out, records);
   std::string warnings;
   summary += framesPresent(opt, scene, records, warnings) + warnings;

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "render/preview.h"
-#include "sim/scene.h"
+#include "pipeline/scene_stages.h"
 
 namespace mf::pipeline {
 
@@ -38,6 +38,6 @@ struct StopRequested : std::runtime_error {
 /// Runs the chosen stages of `scene` into `out` while holding the locks of those stages and
 /// frames (folder_lock.h), so that other stages or frames may run alongside; prints progress
 /// and returns 0, or throws. Appends the summary to out/run.log.
-int runStages(const Scene& scene, const StageOptions& options, const std::filesystem::path& out);
+int runStages(const SceneStages& stages, const StageOptions& options, const std::filesystem::path& out);
 
 }  // namespace mf::pipeline

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/scene.h"
+#include "settings.h"
 #include "warp.h"
 
 namespace mf::render {

@@ -11,7 +11,7 @@
 
 #include <openvdb/openvdb.h>
 
-#include "sim/scene.h"
+#include "settings.h"
 
 namespace mf::render {
 

@@ -2,7 +2,7 @@
 // of three colours (zenith, horizon, ground).
 #pragma once
 
-#include "sim/scene.h"
+#include "settings.h"
 #include "warp.h"
 
 namespace mf::render {

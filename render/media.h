@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "sim/scene.h"
+#include "settings.h"
 
 namespace mf::render {
 

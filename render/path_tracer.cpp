@@ -551,14 +551,14 @@ double PathTracer::traceBare(const std::vector<RecordedRay>& rays) const {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-std::vector<Surface> solidSurfaces(const Scene& scene) {
+std::vector<Surface> solidSurfaces(const Scene& scene, const RenderSettings& settings) {
   std::vector<Surface> out;
   for (size_t i = 0; i < scene.solids.size(); ++i) {
-    const MaterialSpec& m = scene.render.solidMaterials.at(i);
+    const MaterialSpec& m = settings.solidMaterials.at(i);
     if (!m.visible) continue;
     out.push_back({scene.solids[i].name.empty() ? "solid" : scene.solids[i].name, solidMesh(scene.solids[i], m.thickness), m, true});
   }
-  for (const PropSpec& prop : scene.render.props)
+  for (const PropSpec& prop : settings.props)
     if (prop.material.visible) out.push_back({prop.shape.name, solidMesh(prop.shape, prop.material.thickness), prop.material, true});
   return out;
 }

@@ -18,7 +18,7 @@
 #include "aov.h"
 #include "geometry.h"
 #include "image.h"
-#include "sim/scene.h"
+#include "settings.h"
 
 namespace mf::render {
 
@@ -64,7 +64,8 @@ class PathTracer {
   std::unique_ptr<Impl> impl_;
 };
 
-/// The scene's solids as glass (or what their material says), ready for PathTracer.
-std::vector<Surface> solidSurfaces(const Scene& scene);
+/// The scene's solids as glass (or what their material says) and the render stage's props,
+/// ready for PathTracer.
+std::vector<Surface> solidSurfaces(const Scene& scene, const RenderSettings& settings);
 
 }  // namespace mf::render

@@ -58,7 +58,7 @@ Vec3 heatColour(double t) {  // blue -> cyan -> yellow -> red
 
 }  // namespace
 
-PreviewResult renderPreview(const std::string& particleFile, const Scene& scene, const std::string& pngPath,
+PreviewResult renderPreview(const std::string& particleFile, const Scene& scene, const RenderSettings& settings, const std::string& pngPath,
                             PreviewColour colour, double tMin, double tMax) {
   PreviewResult result;
   if (fs::exists(pngPath)) {
@@ -68,7 +68,7 @@ PreviewResult renderPreview(const std::string& particleFile, const Scene& scene,
   const auto t0 = std::chrono::steady_clock::now();
   const ParticleFrame frame = readParticleFrame(particleFile);
   checkFrameMatchesScene(particleFile, frame.info, scene);
-  const RenderSettings rs = atTime(scene.render, frame.info.time);
+  const RenderSettings rs = atTime(settings, frame.info.time);
   const int w = rs.width, h = rs.height;
   OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
   if (!ctx) throw std::runtime_error("OSMesa: cannot create an off-screen context");
@@ -117,7 +117,7 @@ PreviewResult renderPreview(const std::string& particleFile, const Scene& scene,
   const GLsizei count = GLsizei(sphere.size() / 3);
 
   std::vector<Vec3> colours;
-  for (size_t p = 0; p < scene.phases.size(); ++p) colours.push_back(phaseColour(scene.render.phaseMaterials[p]));
+  for (size_t p = 0; p < scene.phases.size(); ++p) colours.push_back(phaseColour(settings.phaseMaterials[p]));
   auto temperature = frame.scalars.find("temperature");
   const bool byTemperature = colour == PreviewColour::Temperature && temperature != frame.scalars.end();
   for (size_t i = 0; i < frame.size(); ++i) {

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "sim/scene.h"
+#include "settings.h"
 
 namespace mf::render {
 
@@ -20,7 +20,7 @@ struct PreviewResult {
 /// Draws `particleFile` with the scene's render camera into `pngPath` (skipped if it exists). The
 /// file is refused, naming it, if damaged or written by a scene with other phases or spacing.
 /// Temperature colours run blue (coldest) to red (hottest) over [tMin, tMax] deg C.
-PreviewResult renderPreview(const std::string& particleFile, const Scene& scene, const std::string& pngPath,
+PreviewResult renderPreview(const std::string& particleFile, const Scene& scene, const RenderSettings& settings, const std::string& pngPath,
                             PreviewColour colour = PreviewColour::Phase, double tMin = 0, double tMax = 100);
 
 }  // namespace mf::render

@@ -26,7 +26,7 @@ struct BadSurface : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The level set of each phase in scene.render.phases, checked: a FloatGrid level set of that
+// The level set of each phase in settings.phases, checked: a FloatGrid level set of that
 // name with uniform, finite voxels; and the attribute grids its material's ramps read. Every
 // failure names the file.
 struct FluidGrids {
@@ -35,7 +35,7 @@ struct FluidGrids {
   openvdb::Vec3SGrid::Ptr velocity;                         // surfacing.velocity's, or null
 };
 
-std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scene) {
+std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scene, const RenderSettings& settings) {
   const std::string bytes = readSealedVdbFile(path, "surface file", "delete it and run the surface stage again");
   std::vector<FluidGrids> out;
   try {
@@ -45,7 +45,7 @@ std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scen
     // bytes parsed are the ones whose checksum was checked.
     openvdb::io::Stream stream(in, /*delayLoad=*/false);
     const openvdb::GridPtrVecPtr grids = stream.getGrids();
-    for (uint16_t p : scene.render.phases) {
+    for (uint16_t p : settings.phases) {
       const std::string& name = scene.phases[p].name;
       openvdb::GridBase::Ptr found;
       for (const auto& g : *grids)
@@ -62,7 +62,7 @@ std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scen
         if (auto v = openvdb::gridPtrCast<openvdb::Vec3SGrid>(g))
           if (const auto m = v->getMetadata<openvdb::StringMetadata>("fluid"); m && m->value() == name) fluid.velocity = v;
       // The attribute grids its material's ramps read (surfacing.attributes writes them).
-      const MaterialSpec& m = scene.render.phaseMaterials[p];
+      const MaterialSpec& m = settings.phaseMaterials[p];
       for (auto [ramp, field] : {std::pair{&m.absorptionRamp, &fluid.absorption}, std::pair{&m.emissionRamp, &fluid.emission}}) {
         if (ramp->empty()) continue;
         const std::string attr = ramp->attribute + "_" + name;
@@ -90,8 +90,9 @@ std::vector<FluidGrids> readLevelSets(const std::string& path, const Scene& scen
 
 }  // namespace
 
-RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const std::string& exrPath,
-                              const std::string& pngPath, int frame, const std::function<void(int, int)>& progress) {
+RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene, const RenderSettings& settings,
+                              const std::string& exrPath, const std::string& pngPath, int frame,
+                              const std::function<void(int, int)>& progress) {
   RenderFrameResult result;
   const bool coverageOnly = exrPath.empty() && pngPath.empty();
   if (!coverageOnly && (exrPath.empty() || fs::exists(exrPath)) && (pngPath.empty() || fs::exists(pngPath))) {
@@ -101,14 +102,14 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   const auto t0 = std::chrono::steady_clock::now();
   openvdb::initialize();
   std::vector<Surface> surfaces;
-  for (FluidGrids& f : readLevelSets(surfaceFile, scene)) {
+  for (FluidGrids& f : readLevelSets(surfaceFile, scene, settings)) {
     openvdb::FloatGrid& grid = *f.levelSet;
     // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
     // voxel size), which would render as films of air; at most 3/4 of the wall's thickness, so
     // that the liquid stays inside the glass that hides it (a coarse voxel reached through the
     // lamp's 6 mm wall by 17 mm, and the glasses' 4 mm by 1 mm, as streaks of water outside).
     std::vector<double> depths;
-    for (const MaterialSpec& m : scene.render.solidMaterials)
+    for (const MaterialSpec& m : settings.solidMaterials)
       depths.push_back(m.visible ? std::min(2.0 * grid.voxelSize()[0], 0.75 * m.thickness) : 0.0);
     wetContainerWalls(grid, scene.solids, depths);
     RenderMesh mesh = levelSetMesh(grid);
@@ -120,7 +121,7 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
         mesh.velocities.push_back({v.x(), v.y(), v.z()});
       }
     }
-    Surface s{scene.phases[f.phase].name, std::move(mesh), scene.render.phaseMaterials[f.phase]};
+    Surface s{scene.phases[f.phase].name, std::move(mesh), settings.phaseMaterials[f.phase]};
     try {
       if (f.absorption) s.absorptionField = std::make_shared<VolumeField>(*f.absorption);
       if (f.emission) s.emissionField = std::make_shared<VolumeField>(*f.emission);
@@ -130,9 +131,9 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
     surfaces.push_back(std::move(s));
   }
   result.anyFluid = !surfaces.empty();
-  for (Surface& s : solidSurfaces(scene)) surfaces.push_back(std::move(s));
-  PathTracer tracer(std::move(surfaces), atTime(scene.render, frame / scene.frameRate), 1 / scene.frameRate);
-  tracer.setNextFrame(atTime(scene.render, (frame + 1) / scene.frameRate), 1 / scene.frameRate);
+  for (Surface& s : solidSurfaces(scene, settings)) surfaces.push_back(std::move(s));
+  PathTracer tracer(std::move(surfaces), atTime(settings, frame / scene.frameRate), 1 / scene.frameRate);
+  tracer.setNextFrame(atTime(settings, (frame + 1) / scene.frameRate), 1 / scene.frameRate);
   result.triangles = tracer.triangleCount();
   result.setupSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // Solids are glass to see through: what counts is a fluid's surface behind them.
@@ -144,16 +145,16 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   result.rays = stats.rays;
   result.seconds = stats.seconds;
   Image image = noisy;
-  if (scene.render.denoise) {
+  if (settings.denoise) {
     const auto td = std::chrono::steady_clock::now();
     DenoiseSettings ds;
-    ds.iterations = scene.render.denoiseIterations;
+    ds.iterations = settings.denoiseIterations;
     image = denoise(noisy, aovs, ds);
     result.denoiseSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count();
   }
   if (!exrPath.empty()) {
     fs::create_directories(fs::path(exrPath).parent_path());
-    writeFrameExr(exrPath, image, scene.render.denoise ? &noisy : nullptr, aovs);
+    writeFrameExr(exrPath, image, settings.denoise ? &noisy : nullptr, aovs);
   }
   if (!pngPath.empty()) {
     fs::create_directories(fs::path(pngPath).parent_path());

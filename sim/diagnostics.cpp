@@ -128,7 +128,7 @@ Vec3 gravityOf(const Scene& s) {
   return g ? g->vector("acceleration") : Vec3{};
 }
 
-double floorHeightOf(const Scene& s) {
+double potentialDatumOf(const Scene& s) {
   double y = std::numeric_limits<double>::max();
   for (const auto& solid : s.solids) y = std::min(y, solid.shape == SolidSpec::Shape::Box ? solid.min.y : solid.base.y);
   return s.solids.empty() ? 0 : y;
@@ -138,14 +138,14 @@ double mechanicalEnergy(const Simulation& sim) {
   const ParticleSet& ps = sim.particles();
   const Scene& scene = sim.scene();
   const Vec3 g = gravityOf(scene);
-  const double floorY = floorHeightOf(scene);
+  const double datumY = potentialDatumOf(scene);
   const bool clamp = scene.solver.clampNegativePressure;
   const double M = sim.gradientMoment();
   double e = 0;
   for (size_t i = 0; i < ps.size(); ++i) {
     const double m = ps.mass[i];
     e += 0.5 * m * lengthSquared(ps.velocity[i]);
-    e -= m * (g.x * ps.position[i].x + g.y * (ps.position[i].y - floorY) + g.z * ps.position[i].z);
+    e -= m * (g.x * ps.position[i].x + g.y * (ps.position[i].y - datumY) + g.z * ps.position[i].z);
     const double r = ps.density[i] / ps.restDensity[i];
     if (r > 1 || !clamp) e += m * ps.stiffness[i] * (std::log(r) + 1 / r - 1) / M;
   }

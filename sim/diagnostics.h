@@ -25,9 +25,10 @@ std::string closedBoxScene(bool still, double scale = 1, double spacing = 0.01, 
 /// (Simulation scales the gradient by it), so that is the elastic energy the force stores.
 double mechanicalEnergy(const Simulation& sim);
 
-/// The scene's gravity (zero without [effects.gravity]) and the height its energy counts from.
+/// The scene's gravity (zero without [effects.gravity]) and the height its potential energy counts
+/// from (the lowest solid's base; a datum of the energy budget, not the render stage's table).
 Vec3 gravityOf(const Scene& scene);
-double floorHeightOf(const Scene& scene);
+double potentialDatumOf(const Scene& scene);
 
 /// Rayleigh-Taylor: 6 cm of a fluid of 1000 kg/m^3 (`heavy`) over 6 cm of one of 500 (`light`) in
 /// a closed 0.1 x 0.2 x 0.06 m box, mu = 0.5 Pa s and k = 200 (WCSPH) as in two_fluids_mixed, both

@@ -1,4 +1,4 @@
-// A scene as plain values: what the scene file says, validated, with units in SI.
+// A scene as plain values: what the scene file says to the simulation, validated, with units in SI.
 // Parsing and error reporting live in scene_file.h; nothing here knows about TOML.
 #pragma once
 
@@ -192,107 +192,8 @@ struct EffectSpec : ParamValues {
   }
 };
 
-/// What the surfacing stage makes of the particles (read by surfacing/, stored with the scene).
-struct SurfacingSettings {
-  std::vector<uint16_t> phases;    // phases to surface; empty in the file means all
-  Real voxelRatio = 0.5;           // voxel size / particle spacing
-  Real radiusRatio = 0.6;          // Zhu & Bridson particle radius / particle spacing
-  Real searchRatio = 1.5;          // Zhu & Bridson kernel radius / particle spacing
-  int filterRadius = 3;            // bilateral stencil radius, voxels
-  Real filterSpatialSigma = 2.0;   // voxels
-  Real filterRangeSigma = 2.0;     // voxels of distance
-  int filterIterations = 4;
-  bool clipToSolids = true;        // cut each level set where it overlaps a container's walls
-  bool fog = false;                // also a fog-volume copy ("density")
-  bool velocity = false;           // also a velocity grid ("vel") from the particles
-  bool meshPly = false, meshObj = false;
-  bool pointsPly = false;          // also the particles as a PLY point cloud (points/points.NNNN.ply)
-  std::vector<std::string> attributes;  // per phase a grid "<attribute>_<phase>": "temperature", "dye"
-};
-
-/// A colour ramp over a particle attribute that surfacing writes as a grid ("temperature" or
-/// "dye"): evenly spaced colours from lo to hi, linear between them, held beyond.
-struct ColourRamp {
-  std::string attribute;  // empty: no ramp
-  Real lo = 0, hi = 1;
-  std::vector<Vec3> colours;  // at least 2
-  bool empty() const { return attribute.empty(); }
-  Vec3 at(Real v) const {
-    const Real s = std::clamp((v - lo) / (hi - lo), Real(0), Real(1)) * Real(colours.size() - 1);
-    const size_t k = std::min(size_t(s), colours.size() - 2);
-    const Real f = s - Real(k);
-    return colours[k] * (1 - f) + colours[k + 1] * f;
-  }
-};
-
-/// How a phase or a solid looks (read by render/). Units: coefficients per metre, radiance
-/// relative (1 = a white sky's brightness).
-struct MaterialSpec {
-  enum class Kind {
-    Dielectric,  // clear: Fresnel reflection and refraction, Beer-Lambert absorption inside
-    Medium,      // translucent: a dielectric boundary around a scattering medium (wax)
-    Diffuse,     // opaque Lambertian
-    Emitter,     // opaque, glowing
-  };
-  Kind kind = Kind::Dielectric;
-  Real ior = 1.33;
-  Vec3 absorption;            // sigma_a per RGB channel, 1/m
-  Real scattering = 0;        // sigma_s, 1/m (Medium), isotropic
-  Vec3 colour{0.8, 0.8, 0.8}; // Diffuse albedo
-  Vec3 emission;              // Emitter radiance; for a Medium, radiance emitted per metre
-  int priority = 10;          // nested dielectrics: where volumes overlap, the higher one wins
-  // Inside the volume, absorption and emission from the fluid's attribute grid, in place of
-  // the constants above (phases only; surfacing.attributes must write the attribute).
-  ColourRamp absorptionRamp, emissionRamp;
-  Real thickness = 0.004;     // solids: wall thickness, m (glass)
-  bool visible = true;        // solids: drawn at all
-};
-
-/// A camera pose at a time ([[render.camera_key]]); render/camera.h interpolates them.
-struct CameraKey {
-  Real time = 0;  // s
-  Vec3 position, lookAt;
-  Real fov = 40;  // vertical, degrees
-};
-
-/// An object only the render stage sees ([[render.prop]]: a lamp's base and cap): a solid's
-/// shape, drawn as a shell of the material's thickness around it, opaque and diffuse by default.
-struct PropSpec {
-  SolidSpec shape;
-  MaterialSpec material;
-};
-
-/// The render stage's camera, lights and materials.
-struct RenderSettings {
-  int width = 480, height = 270;
-  int samples = 16;                 // paths per pixel
-  int maxDepth = 16;                // bounces per path
-  Real indirectClamp = 1;           // cap on light arriving after a diffuse bounce (0: none)
-  Real regularise = 0;              // degrees: mirrors after a diffuse vertex blurred by this cone (0: off)
-  Real shutter = 0;                 // motion blur: the shutter's open time, a fraction of the frame interval, centred on the frame (0: off)
-  bool sobol = true;                // Owen-scrambled Sobol samples (false: independent random ones)
-  bool mis = true;                  // light samples and lobe samples weighted by the power heuristic
-  bool animatedSeed = false;        // the frame in the sampler's seed (noise changes every frame)
-  bool denoise = true;              // the shipped frame filtered by render/denoise.h (the noisy one kept in the EXR)
-  int denoiseIterations = 5;        // its à-trous passes (the filter spans 4 (2^n - 1) + 1 pixels)
-  std::vector<uint16_t> phases;     // phases drawn (from their level sets); default: the surfaced ones
-  Vec3 cameraPosition{0.5, 0.5, 2.0}, lookAt{0.5, 0.3, 0.0};
-  Real fov = 40;                    // vertical, degrees
-  std::string cameraFraming;        // without camera keys: what the camera was set to frame
-  std::vector<CameraKey> cameraKeys;  // a moving camera, times increasing (empty: the one above)
-  Vec3 skyZenith{0.35, 0.45, 0.65}, skyHorizon{1.0, 1.0, 1.0};
-  Vec3 skyGround{0.25, 0.25, 0.25}; // radiance from below the horizon
-  Vec3 lightPosition;               // a spherical area light
-  Real lightRadius = 0;             // m; 0: no light but the sky
-  Vec3 lightEmission{20, 19, 17};
-  bool floor = true;                // a table top at floorHeight (default: under the lowest solid)
-  Real floorHeight = 0;
-  Real checkerSize = 0.05;          // m; 0: plain
-  std::vector<MaterialSpec> phaseMaterials;  // one per phase
-  std::vector<MaterialSpec> solidMaterials;  // one per solid
-  std::vector<PropSpec> props;
-};
-
+/// The simulation's part of a scene file. Its [surfacing] and [render] tables belong to those stages
+/// (surfacing/settings.h, render/settings.h); pipeline/scene_stages.h reads all three.
 struct Scene {
   std::string name;
   std::string sourceFile;   // where it came from, for messages
@@ -307,8 +208,6 @@ struct Scene {
   std::vector<SolidSpec> solids;
   std::vector<FluidBlockSpec> fluids;
   std::vector<EffectSpec> effects;
-  SurfacingSettings surfacing;
-  RenderSettings render;
 
   // Where each key was given (dotted path, e.g. "fluid[0].max" -> its line), and which keys
   // came from --set: for messages about the scene as a whole (see scene_budget.h).

@@ -231,7 +231,7 @@ double defaultMemoryLimit() {
 
 namespace {
 /// The estimate from the blocks' counts (one countBlock per block, in scene order).
-SceneBudget estimateFromCounts(const Scene& sc, const std::vector<BlockCount>& counts) {
+SceneBudget estimateFromCounts(const Scene& sc, const std::vector<BlockCount>& counts, const LaterStageSizes& later) {
   SceneBudget b;
   for (const BlockCount& c : counts) b.particles += c.seeded;
   b.emitted = emittedParticles(sc);
@@ -240,9 +240,9 @@ SceneBudget estimateFromCounts(const Scene& sc, const std::vector<BlockCount>& c
   // The surfacing band: about 6 voxels thick over the fluid's surface, at most the surface of
   // every particle's own sphere (spray), in voxels of voxel_ratio spacings.
   const double peak = b.particles + b.emitted;
-  const double vr = sc.surfacing.voxelRatio;
+  const double vr = later.voxelRatio;
   b.surfaceVoxels = peak * 6.0 * std::pow(1.0 / vr, 2) * 4;
-  const double pixels = double(sc.render.width) * double(sc.render.height);
+  const double pixels = later.width * later.height;
   const double sim = peak * kBytesPerParticle + b.boundarySamples * kBytesPerBoundarySample;
   const double surface = b.surfaceVoxels * kBytesPerVoxel + peak * 64;
   const double render = pixels * kBytesPerPixel + b.surfaceVoxels * 48;  // meshes from the level sets
@@ -261,9 +261,9 @@ std::vector<BlockCount> countBlocks(const Scene& sc) {
 }
 }  // namespace
 
-SceneBudget estimateSceneBudget(const Scene& sc) { return estimateFromCounts(sc, countBlocks(sc)); }
+SceneBudget estimateSceneBudget(const Scene& sc, const LaterStageSizes& later) { return estimateFromCounts(sc, countBlocks(sc), later); }
 
-SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
+SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits, const LaterStageSizes& later) {
   std::vector<SceneProblem> problems;
   auto problem = [&](const std::string& key, const std::string& message) {
     problems.push_back({sc.sourceFile, sc.lineOf(key), key, message});
@@ -301,7 +301,7 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
     else
       problem(shapeKey, "the block seeds no particle");
   }
-  const SceneBudget b = estimateFromCounts(sc, counts);
+  const SceneBudget b = estimateFromCounts(sc, counts, later);
   const double limit = limits.maxMemoryBytes > 0 ? limits.maxMemoryBytes : defaultMemoryLimit();
   auto mib = [](double bytes) { return bytes / (1024.0 * 1024.0); };
   if (b.memoryBytes > limit) {
@@ -315,9 +315,9 @@ SceneBudget checkSceneBudget(const Scene& sc, const BudgetLimits& limits) {
     } else if (b.emitted > b.particles) {
       key = "effects.emitter";
       what = fmt::format("{:.3g} emitted particles", b.emitted);
-    } else if (double(sc.render.width) * sc.render.height * kBytesPerPixel > b.memoryBytes / 2) {
+    } else if (later.width * later.height * kBytesPerPixel > b.memoryBytes / 2) {
       key = "render.width";
-      what = fmt::format("{}x{} pixels", sc.render.width, sc.render.height);
+      what = fmt::format("{}x{} pixels", later.width, later.height);
     }
     problem(key, fmt::format("the scene needs an estimated {:.0f} MiB ({}), over the {:.0f} MiB allowed ({}); use a coarser "
                              "particle_spacing, smaller solids or fewer pixels",

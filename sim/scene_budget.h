@@ -27,11 +27,18 @@ struct BudgetLimits {
   bool force = false;              // run over the step bound anyway
 };
 
+/// What the later stages' settings add to the estimate (surfacing/settings.h, render/settings.h;
+/// their defaults here): the level sets' voxel size and the image's pixels.
+struct LaterStageSizes {
+  double voxelRatio = 0.5;  // surfacing.voxel_ratio
+  double width = 480, height = 270;  // render.width, render.height
+};
+
 /// The estimate alone (never throws; no allocation that grows with the scene).
-SceneBudget estimateSceneBudget(const Scene& scene);
+SceneBudget estimateSceneBudget(const Scene& scene, const LaterStageSizes& later = {});
 
 /// The estimate, checked against the limits; throws SceneError listing every problem.
-SceneBudget checkSceneBudget(const Scene& scene, const BudgetLimits& limits = {});
+SceneBudget checkSceneBudget(const Scene& scene, const BudgetLimits& limits = {}, const LaterStageSizes& later = {});
 
 /// The memory a run may use by default: 80 % of the physical memory, or of RLIMIT_AS if lower.
 double defaultMemoryLimit();

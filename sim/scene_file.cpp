@@ -84,7 +84,6 @@ namespace {
 using scene_reading::rangeText;
 using scene_reading::Reader;
 using scene_reading::TableReader;
-using scene_reading::readRender;
 using scene_reading::readSolidsAndFluids;
 
 // --set key=value: walks tables; [[phase]] etc. are addressed by index or by their "name".
@@ -251,7 +250,9 @@ int lineNestedDeeperThan(const std::string& text, int limit) {
 }
 }  // namespace
 
-Scene parseScene(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+namespace scene_reading {
+
+SceneDocument parseDocument(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
   constexpr int kMaxNesting = 64;
   if (const int line = lineNestedDeeperThan(text, kMaxNesting))
     throw SceneError({{sourceName, line, "", fmt::format("tables, arrays or dotted keys nested deeper than {} levels", kMaxNesting)}});
@@ -266,8 +267,14 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
   for (const std::string& o : overrides) applyOverride(root, o, sourceName, overrideProblems, overridden);
   if (!overrideProblems.empty()) throw SceneError(overrideProblems);
 
+  return SceneDocument{std::move(root), Reader(sourceName, overridden), sourceName};
+}
+
+Scene readSimulation(SceneDocument& doc) {
+  const toml::table& root = doc.root;
+  Reader& r = doc.reader;
   Scene sc;
-  sc.sourceFile = sourceName;
+  sc.sourceFile = doc.sourceName;
   {
     std::ostringstream os;
     os << root;
@@ -281,7 +288,6 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     ss << simulationPart;
     sc.simulationHash = hashText(ss.str());
   }
-  Reader r(sourceName, overridden);
   {
     TableReader top(r, &root, "");
     TableReader scene(r, top.table("scene"), "scene");
@@ -299,26 +305,19 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
     readSolver(solver, sc.solver);
     if (sc.solver.minDt > sc.solver.maxDt) r.problem(solver.node("min_dt"), "solver.min_dt", "must not exceed solver.max_dt");
 
-    if (scene.has("periodic")) {
-      const toml::node* pn = scene.node("periodic");
-      const toml::array* pa = pn->as_array();
-      if (!pa) r.problem(pn, "scene.periodic", "expected an array of axes, e.g. [\"x\", \"z\"]");
-      else
-        for (const toml::node& e : *pa) {
-          const std::string a = e.value<std::string>().value_or("");
-          const int axis = a == "x" ? 0 : a == "y" ? 1 : a == "z" ? 2 : -1;
-          if (axis < 0) r.problem(&e, "scene.periodic", "\"" + a + "\" is not one of \"x\", \"y\", \"z\"");
-          else if (sc.periodicAxes & (1u << axis)) r.problem(&e, "scene.periodic", "\"" + a + "\" is listed twice");
-          else {
-            sc.periodicAxes = uint8_t(sc.periodicAxes | (1u << axis));
-            // The minimum image is unique only while a period exceeds two support radii.
-            const Real L = sc.domainMax[axis] - sc.domainMin[axis];
-            const Real h = sc.solver.smoothingRatio * sc.solver.particleSpacing;
-            if (L > 0 && h > 0 && !(L > 2 * h))
-              r.problem(&e, "scene.periodic", fmt::format("the domain is {:g} m along {}; a periodic axis needs more than two support radii ({:g} m)", L, a, 2 * h));
-          }
-        }
-    }
+    scene.strings("periodic", "axes, e.g. [\"x\", \"z\"]", [&](const toml::node& e, const std::string& a) {
+      const int axis = a == "x" ? 0 : a == "y" ? 1 : a == "z" ? 2 : -1;
+      if (axis < 0) r.problem(&e, "scene.periodic", "\"" + a + "\" is not one of \"x\", \"y\", \"z\"");
+      else if (sc.periodicAxes & (1u << axis)) r.problem(&e, "scene.periodic", "\"" + a + "\" is listed twice");
+      else {
+        sc.periodicAxes = uint8_t(sc.periodicAxes | (1u << axis));
+        // The minimum image is unique only while a period exceeds two support radii.
+        const Real L = sc.domainMax[axis] - sc.domainMin[axis];
+        const Real h = sc.solver.smoothingRatio * sc.solver.particleSpacing;
+        if (L > 0 && h > 0 && !(L > 2 * h))
+          r.problem(&e, "scene.periodic", fmt::format("the domain is {:g} m along {}; a periodic axis needs more than two support radii ({:g} m)", L, a, 2 * h));
+      }
+    });
 
     std::map<std::string, std::vector<std::pair<int, std::string>>> phaseKeyLines;  // effect-specific [[phase]] keys given, and where
     const auto phaseTables = top.tables("phase");
@@ -427,76 +426,34 @@ Scene parseScene(const std::string& text, const std::string& sourceName, const s
       if (!used)
         for (const auto& [line, path] : lines) r.problemAt(line, path, "has no effect unless " + users + " is enabled");
     }
-    // [surfacing]: which phases become level sets, and how.
-    {
-      TableReader t(r, top.table("surfacing"), "surfacing");
-      SurfacingSettings& o = sc.surfacing;
-      if (t.has("phases")) {
-        const toml::node* pn = t.node("phases");
-        const toml::array* pa = pn->as_array();
-        if (!pa) r.problem(pn, "surfacing.phases", "expected an array of phase names");
-        else
-          for (const toml::node& e : *pa) {
-            const int pi = sc.phaseIndex(e.value<std::string>().value_or(""));
-            if (pi < 0) r.problem(&e, "surfacing.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
-            else if (std::find(o.phases.begin(), o.phases.end(), uint16_t(pi)) != o.phases.end())
-              r.problem(&e, "surfacing.phases", "phase \"" + sc.phases[pi].name + "\" is listed twice");
-            else o.phases.push_back(uint16_t(pi));
-          }
-      } else {
-        for (size_t k = 0; k < sc.phases.size(); ++k) o.phases.push_back(uint16_t(k));
-      }
-      o.voxelRatio = t.number("voxel_ratio", o.voxelRatio, 0.05, 2, "of the particle spacing");
-      o.radiusRatio = t.number("radius_ratio", o.radiusRatio, 0.3, 3, "of the particle spacing");
-      o.searchRatio = t.number("search_ratio", o.searchRatio, 0.5, 6, "of the particle spacing");
-      if (o.searchRatio < o.radiusRatio) r.problem(t.node("search_ratio"), "surfacing.search_ratio", "must be at least surfacing.radius_ratio");
-      o.filterRadius = t.integer("filter_radius", o.filterRadius, 0, 5, "voxels");
-      o.filterSpatialSigma = t.number("filter_spatial_sigma", o.filterSpatialSigma, 0, 5, "voxels", true);
-      o.filterRangeSigma = t.number("filter_range_sigma", o.filterRangeSigma, 0, 10, "voxels (0 = plain Gaussian)");
-      o.filterIterations = t.integer("filter_iterations", o.filterIterations, 0, 20);
-      o.clipToSolids = t.boolean("clip_to_solids", o.clipToSolids);
-      o.fog = t.boolean("fog", o.fog);
-      o.velocity = t.boolean("velocity", o.velocity);
-      o.pointsPly = t.boolean("points_ply", o.pointsPly);
-      if (t.has("attributes")) {
-        const toml::node* an = t.node("attributes");
-        const toml::array* aa = an->as_array();
-        if (!aa) r.problem(an, "surfacing.attributes", "expected an array of \"temperature\" and/or \"dye\"");
-        else
-          for (const toml::node& e : *aa) {
-            const std::string a = e.value<std::string>().value_or("");
-            if (a != "temperature" && a != "dye") r.problem(&e, "surfacing.attributes", "\"" + a + "\" is not one of \"temperature\", \"dye\"");
-            else if (std::find(o.attributes.begin(), o.attributes.end(), a) != o.attributes.end())
-              r.problem(&e, "surfacing.attributes", "\"" + a + "\" is listed twice");
-            else o.attributes.push_back(a);
-          }
-      }
-      if (t.has("meshes")) {
-        const toml::node* mn = t.node("meshes");
-        const toml::array* ma = mn->as_array();
-        if (!ma) r.problem(mn, "surfacing.meshes", "expected an array of \"ply\" and/or \"obj\"");
-        else
-          for (const toml::node& e : *ma) {
-            const std::string m = e.value<std::string>().value_or("");
-            if (m == "ply") o.meshPly = true;
-            else if (m == "obj") o.meshObj = true;
-            else r.problem(&e, "surfacing.meshes", "\"" + m + "\" is not one of \"ply\", \"obj\"");
-          }
-      }
-    }
-    readRender(r, top, sc);
+    // The later stages' tables are theirs (surfacing/settings.h, render/settings.h): here
+    // only their type is checked.
+    top.table("surfacing");
+    top.table("render");
   }
-  if (!r.problems.empty()) throw SceneError(r.problems);
-  sc.keyLines = std::move(r.lines);
-  sc.overriddenKeys = r.overridden();
   return sc;
 }
 
-Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides) {
+void finishScene(SceneDocument& doc, Scene& scene) {
+  if (!doc.reader.problems.empty()) throw SceneError(doc.reader.problems);
+  scene.keyLines = doc.reader.lines;
+  scene.overriddenKeys = doc.reader.overridden();
+}
+
+}  // namespace scene_reading
+
+Scene parseScene(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides) {
+  scene_reading::SceneDocument doc = scene_reading::parseDocument(text, sourceName, overrides);
+  Scene sc = scene_reading::readSimulation(doc);
+  scene_reading::finishScene(doc, sc);
+  return sc;
+}
+
+SceneSource readSceneSource(const std::string& pathOrName) {
   const bool isPath = pathOrName.find('/') != std::string::npos ||
                       (pathOrName.size() > 5 && pathOrName.compare(pathOrName.size() - 5, 5, ".toml") == 0);
   if (!isPath) {
-    if (const char* text = embeddedSceneText(pathOrName)) return parseScene(text, "<embedded:" + pathOrName + ">", overrides);
+    if (const char* text = embeddedSceneText(pathOrName)) return {text, "<embedded:" + pathOrName + ">"};
     std::string names;
     for (const auto& n : embeddedSceneNames()) names += (names.empty() ? "" : ", ") + n;
     throw SceneError({{pathOrName, 0, "",
@@ -518,7 +475,12 @@ Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& o
   ss << in.rdbuf();
   const std::string text = ss.str();
   if (text.find('\0') != std::string::npos) throw SceneError({{pathOrName, 0, "", "contains NUL bytes: not a TOML text file"}});
-  return parseScene(text, pathOrName, overrides);
+  return {text, pathOrName};
+}
+
+Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides) {
+  const SceneSource source = readSceneSource(pathOrName);
+  return parseScene(source.text, source.name, overrides);
 }
 
 std::map<std::string, std::string> keyDefaultsReadBy(const std::function<void()>& parse) {

@@ -34,11 +34,20 @@ class SceneError : public std::runtime_error {
 /// Parses scene text. `overrides` are "dotted.key=toml-value" strings (like --set) applied
 /// before validation; [[phase]] entries can be addressed by name: "phase.water.stiffness=1e4".
 /// Throws SceneError listing every problem.
+/// The simulation's part of a scene: [surfacing] and [render] are only checked to be tables here;
+/// each later stage reads its own (pipeline/scene_stages.h reads them all).
 Scene parseScene(const std::string& text, const std::string& sourceName,
                  const std::vector<std::string>& overrides = {});
 
-/// A path (containing '/' or ending in ".toml") is read as a file (at most 1 MiB; a folder is
-/// refused); any other word names an embedded scene.
+/// A scene's text and the name messages give it. A path (containing '/' or ending in ".toml") is
+/// read as a file (at most 1 MiB; a folder is refused); any other word names an embedded scene.
+/// Throws SceneError.
+struct SceneSource {
+  std::string text, name;
+};
+SceneSource readSceneSource(const std::string& pathOrName);
+
+/// parseScene of readSceneSource(pathOrName).
 Scene loadScene(const std::string& pathOrName, const std::vector<std::string>& overrides = {});
 
 /// Every key path ("solver.cfl", "fluid[0].min") the parser asked for while `parse` ran, given

@@ -1,7 +1,7 @@
-// The machinery behind scene files (scene_file.cpp, scene_render.cpp): a Reader collects every
-// problem with its file, line and key; a TableReader reads one table's keys with their ranges and
-// reports the keys nobody asked for. Internal to sim/: toml++ types appear here, not in
-// scene_file.h.
+// The machinery behind scene files, shared by every stage's reader (sim/scene_file.cpp,
+// surfacing/settings_file.cpp, render/settings_file.cpp): a Reader collects every problem with its
+// file, line and key; a TableReader reads one table's keys with their ranges and reports the keys
+// nobody asked for. toml++ types appear here, not in scene_file.h.
 #pragma once
 
 #include <fmt/format.h>
@@ -195,6 +195,35 @@ class TableReader {
       }
   }
 
+  /// An array of strings (`expected` says of what, for the message): `each(element, value)` for
+  /// each element, in order (a non-string element's value is ""). False if the key is absent.
+  template <class Each>
+  bool strings(const std::string& key, const std::string& expected, Each each) {
+    if (!has(key)) return false;
+    const toml::node* n = node(key);
+    if (const toml::array* a = n->as_array())
+      for (const toml::node& e : *a) each(e, e.value<std::string>().value_or(""));
+    else
+      r_.problem(n, path(key), "expected an array of " + expected);
+    return true;
+  }
+
+  /// An array of phase names (`key`) into their indices in `scene`, appended to `out`: unknown
+  /// and repeated names are problems, and so is a phase for which `refuse` gives a reason.
+  /// False if the key is absent.
+  template <class Refuse>
+  bool phaseNames(const std::string& key, const Scene& scene, std::vector<uint16_t>& out, Refuse refuse) {
+    return strings(key, "phase names", [&](const toml::node& e, const std::string& name) {
+      const int pi = scene.phaseIndex(name);
+      std::string why;
+      if (pi < 0) why = "unknown phase \"" + e.value<std::string>().value_or("?") + "\"";
+      else if (std::find(out.begin(), out.end(), uint16_t(pi)) != out.end()) why = "phase \"" + name + "\" is listed twice";
+      else why = refuse(pi);
+      if (why.empty()) out.push_back(uint16_t(pi));
+      else r_.problem(&e, path(key), why);
+    });
+  }
+
   const toml::table* table(const std::string& key) {
     const toml::node* n = node(key);
     if (n && !n->is_table()) r_.problem(n, path(key), "expected a table");
@@ -234,7 +263,23 @@ void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc);
 /// containers' and the render stage's props.
 void readShape(Reader& r, TableReader& t, SolidSpec& s);
 
-/// [render] and [render.material.NAME] (NAME: a phase or a solid), after [surfacing] is read.
-void readRender(Reader& r, TableReader& top, Scene& sc);
+/// A scene file parsed, with its --set overrides applied: the document every stage reads its own
+/// tables from, and the reader that collects all their problems.
+struct SceneDocument {
+  toml::table root;
+  Reader reader;
+  std::string sourceName;
+  /// A later stage's table ("surfacing", "render"), or nullptr (its type is checked by
+  /// readSimulation).
+  const toml::table* stageTable(const char* name) const { return root.get_as<toml::table>(name); }
+};
+
+/// Parses `text` and applies `overrides`; throws SceneError for a syntax or an override problem.
+SceneDocument parseDocument(const std::string& text, const std::string& sourceName, const std::vector<std::string>& overrides);
+/// The simulation's tables of `doc`; every problem goes to doc.reader.
+Scene readSimulation(SceneDocument& doc);
+/// After every stage has read its tables: throws SceneError listing every problem, or notes in
+/// `scene` where each key was given.
+void finishScene(SceneDocument& doc, Scene& scene);
 
 }  // namespace mf::scene_reading

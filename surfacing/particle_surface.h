@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene.h"
+#include "settings.h"
 
 namespace mf::surfacing {
 

@@ -21,10 +21,9 @@ namespace fs = std::filesystem;
 
 namespace mf::surfacing {
 
-SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& scene, const std::string& surfaceFile,
-                                const std::string& meshDir, int frame) {
+SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& scene, const SurfacingSettings& s,
+                                const std::string& surfaceFile, const std::string& meshDir, int frame) {
   SurfaceFrameResult result;
-  const SurfacingSettings& s = scene.surfacing;
   auto meshPath = [&](const std::string& phase, const char* ext) {
     return (fs::path(meshDir) / fmt::format("{}.{:04d}.{}", phase, frame, ext)).string();
   };

@@ -17,7 +17,7 @@
 #include "render/aov.h"
 #include "render/denoise.h"
 #include "render/path_tracer.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 
 namespace fs = std::filesystem;
 using namespace mf;
@@ -178,11 +178,11 @@ checker_size = 0.03
 )";
 
 std::unique_ptr<render::PathTracer> waterBall() {
-  const Scene sc = parseScene(kGlass, "glass", {});
+  const SceneStages sc = parseSceneStages(kGlass, "glass", {});
   std::vector<render::Surface> surfaces;
   auto ball = openvdb::tools::createLevelSetSphere<openvdb::FloatGrid>(0.045f, openvdb::Vec3f(0, 0.05f, 0), 0.002f, 3.0f);
   surfaces.push_back({"water", render::levelSetMesh(*ball), sc.render.phaseMaterials[0]});
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   return std::make_unique<render::PathTracer>(std::move(surfaces), sc.render);
 }
 
@@ -247,10 +247,10 @@ TEST(RenderAov, ExrHasTheLayersWithSaneValues) {
 }
 
 TEST(Denoise, IterationsKeyIsRangeChecked) {
-  EXPECT_TRUE(parseScene(kGlass, "glass", {}).render.denoise);  // on unless the scene says otherwise
-  EXPECT_FALSE(parseScene(kGlass, "glass", {"render.denoise=false"}).render.denoise);
+  EXPECT_TRUE(parseSceneStages(kGlass, "glass", {}).render.denoise);  // on unless the scene says otherwise
+  EXPECT_FALSE(parseSceneStages(kGlass, "glass", {"render.denoise=false"}).render.denoise);
   try {
-    parseScene(kGlass, "glass", {"render.denoise_iterations=9"});
+    parseSceneStages(kGlass, "glass", {"render.denoise_iterations=9"});
     ADD_FAILURE() << "denoise_iterations = 9 accepted";
   } catch (const std::exception& e) {
     const std::string m = e.what();

@@ -11,6 +11,7 @@
 
 #include "render/camera.h"
 #include "render/path_tracer.h"
+#include "pipeline/scene_stages.h"
 #include "render/render_frame.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
@@ -24,18 +25,18 @@ namespace {
 double frameZeroCoverage(const std::string& name) {
   // Small and fast: coverage needs no samples, only the camera and the surfaces. The scene's own
   // aspect (the lamp's frame is portrait), 96 pixels on its longer side.
-  const mf::Scene shipped = mf::loadScene(name);
+  const mf::SceneStages shipped = mf::loadSceneStages(name);
   const int w = shipped.render.width, h = shipped.render.height, longer = std::max(w, h);
-  const mf::Scene scene = mf::loadScene(name, {fmt::format("render.width={}", std::max(8, 96 * w / longer)),
+  const mf::SceneStages stages = mf::loadSceneStages(name, {fmt::format("render.width={}", std::max(8, 96 * w / longer)),
                                                fmt::format("render.height={}", std::max(8, 96 * h / longer))});
   const fs::path dir = fs::temp_directory_path() / ("mf_framing_" + std::to_string(::getpid()) + "_" + name);
   fs::create_directories(dir);
-  mf::Simulation sim(scene);
-  const mf::FrameInfo info = mf::frameInfoFor(scene);
+  mf::Simulation sim(stages.scene);
+  const mf::FrameInfo info = mf::frameInfoFor(stages.scene);
   const std::string particles = (dir / "particles.vdb").string(), surface = (dir / "surface.vdb").string();
   mf::writeParticleFrame(particles, sim.particles(), info);
-  mf::surfacing::surfaceFrame(particles, scene, surface, "", 0);
-  const auto r = mf::render::renderFrame(surface, scene, "", "", 0);
+  mf::surfacing::surfaceFrame(particles, stages.scene, stages.surfacing, surface, "", 0);
+  const auto r = mf::render::renderFrame(surface, stages.scene, stages.render, "", "", 0);
   fs::remove_all(dir);
   return r.fluidCoverage;
 }
@@ -55,16 +56,16 @@ TEST(Framing, EveryShippedSceneShowsItsFluidAtFrameZero) {
 
 TEST(Framing, WithoutCameraKeysTheSolidsAreFramedAndTheTableIsUnderThem) {
   // water_oil's domain reaches 1 cm below its tank: the table belongs under the tank's wall.
-  const mf::Scene scene = mf::loadScene("water_oil");
-  EXPECT_FALSE(scene.render.cameraFraming.empty());
-  EXPECT_NEAR(scene.render.floorHeight, scene.solids[0].min.y - scene.render.solidMaterials[0].thickness, 1e-12);
-  EXPECT_GT(scene.render.floorHeight, scene.domainMin.y + 0.005);
+  const mf::SceneStages stages = mf::loadSceneStages("water_oil");
+  EXPECT_FALSE(stages.render.cameraFraming.empty());
+  EXPECT_NEAR(stages.render.floorHeight, stages.scene.solids[0].min.y - stages.render.solidMaterials[0].thickness, 1e-12);
+  EXPECT_GT(stages.render.floorHeight, stages.scene.domainMin.y + 0.005);
   // boiling puts its table under the burner, below the glass, by floor_height.
-  const mf::Scene boiling = mf::loadScene("boiling");
+  const mf::SceneStages boiling = mf::loadSceneStages("boiling");
   EXPECT_TRUE(boiling.render.cameraFraming.empty());
   EXPECT_DOUBLE_EQ(boiling.render.floorHeight, -0.065);
   // A scene's own camera is kept as given.
-  const mf::Scene dam = mf::loadScene("dam_break");
+  const mf::SceneStages dam = mf::loadSceneStages("dam_break");
   EXPECT_TRUE(dam.render.cameraFraming.empty());
   EXPECT_DOUBLE_EQ(dam.render.cameraPosition.z, 0.42);
 }
@@ -76,22 +77,22 @@ TEST(Props, APropIsDrawnButNotSimulated) {
   const std::string prop =
       "render.prop=[{name=\"stand\", shape=\"cylinder\", base=[0.1, -0.2, 0.1], radius=0.08, height=0.19, "
       "thickness=0.004, colour=[0.3, 0.3, 0.3]}]";
-  const mf::Scene plain = mf::loadScene("water_oil"), withProp = mf::loadScene("water_oil", {prop});
+  const mf::SceneStages plain = mf::loadSceneStages("water_oil"), withProp = mf::loadSceneStages("water_oil", {prop});
   ASSERT_EQ(withProp.render.props.size(), 1u);
   const mf::PropSpec& p = withProp.render.props[0];
   EXPECT_EQ(p.shape.name, "stand");
   EXPECT_TRUE(p.material.kind == mf::MaterialSpec::Kind::Diffuse);
-  EXPECT_EQ(withProp.simulationHash, plain.simulationHash);
-  EXPECT_EQ(mf::Simulation(withProp).boundary().size(), mf::Simulation(plain).boundary().size());
-  const auto surfaces = mf::render::solidSurfaces(withProp);
-  ASSERT_EQ(surfaces.size(), mf::render::solidSurfaces(plain).size() + 1);
+  EXPECT_EQ(withProp.scene.simulationHash, plain.scene.simulationHash);
+  EXPECT_EQ(mf::Simulation(withProp.scene).boundary().size(), mf::Simulation(plain.scene).boundary().size());
+  const auto surfaces = mf::render::solidSurfaces(withProp.scene, withProp.render);
+  ASSERT_EQ(surfaces.size(), mf::render::solidSurfaces(plain.scene, plain.render).size() + 1);
   EXPECT_EQ(surfaces.back().name, "stand");
   EXPECT_GT(surfaces.back().mesh.size(), 100u);
   // The table goes under the stand's outer wall, now the lowest thing in the scene.
   EXPECT_NEAR(withProp.render.floorHeight, -0.2 - 0.004, 1e-12);
   // Its keys are checked like a solid's: a named key, a range.
   try {
-    mf::loadScene("water_oil", {"render.prop=[{shape=\"cylinder\", base=[0.0, 0.0, 0.0], radius=-1.0, height=0.1}]"});
+    mf::loadSceneStages("water_oil", {"render.prop=[{shape=\"cylinder\", base=[0.0, 0.0, 0.0], radius=-1.0, height=0.1}]"});
     FAIL() << "a negative radius must be refused";
   } catch (const mf::SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("render.prop[0].radius"), std::string::npos) << e.what();
@@ -107,10 +108,10 @@ TEST(CameraKeys, TheSplineMeetsTheKeysHoldsOutsideAndIsSmoothAtInnerKeys) {
       "render.camera_key=[{time=0.5, position=[1,0.2,1], look_at=[0,0,0]},"
       " {time=1.0, position=[0,0.4,1.5], look_at=[0,0.1,0], fov=30},"
       " {time=2.5, position=[-1,0.2,1], look_at=[0.1,0,0], fov=50}]";
-  const mf::Scene scene = mf::loadScene("water_oil", {keys});
-  const auto& k = scene.render.cameraKeys;
+  const mf::SceneStages stages = mf::loadSceneStages("water_oil", {keys});
+  const auto& k = stages.render.cameraKeys;
   ASSERT_EQ(k.size(), 3u);
-  EXPECT_TRUE(scene.render.cameraFraming.empty()) << "keys are a camera: no automatic framing";
+  EXPECT_TRUE(stages.render.cameraFraming.empty()) << "keys are a camera: no automatic framing";
   EXPECT_DOUBLE_EQ(k[0].fov, 40) << "fov defaults to render.fov";
   using mf::render::cameraAt;
   for (const auto& key : k) {
@@ -145,21 +146,21 @@ TEST(CameraKeys, TheSplineMeetsTheKeysHoldsOutsideAndIsSmoothAtInnerKeys) {
 TEST(CameraKeys, ARenderedFrameUsesThePoseAtItsTime) {
   // water_oil at 25 frames/s: a camera on the tank at frame 0 that turns away from it by frame 5
   // (0.2 s). Frame 0 shows the fluid, frame 5 sees none of it.
-  const mf::Scene framed = mf::loadScene("water_oil");
+  const mf::SceneStages framed = mf::loadSceneStages("water_oil");
   const mf::Vec3 eye = framed.render.cameraPosition, at = framed.render.lookAt;
   const mf::Vec3 away = eye + (eye - at);  // looking straight away from the tank
   const std::string keys = fmt::format(
       "render.camera_key=[{{time=0, position=[{},{},{}], look_at=[{},{},{}]}}, {{time=0.2, position=[{},{},{}], look_at=[{},{},{}]}}]",
       eye.x, eye.y, eye.z, at.x, at.y, at.z, eye.x, eye.y, eye.z, away.x, away.y, away.z);
-  const mf::Scene scene = mf::loadScene("water_oil", {"render.width=96", "render.height=54", keys});
+  const mf::SceneStages stages = mf::loadSceneStages("water_oil", {"render.width=96", "render.height=54", keys});
   const fs::path dir = fs::temp_directory_path() / ("mf_camera_keys_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  mf::Simulation sim(scene);
+  mf::Simulation sim(stages.scene);
   const std::string particles = (dir / "particles.vdb").string(), surface = (dir / "surface.vdb").string();
-  mf::writeParticleFrame(particles, sim.particles(), mf::frameInfoFor(scene));
-  mf::surfacing::surfaceFrame(particles, scene, surface, "", 0);
-  const double at0 = mf::render::renderFrame(surface, scene, "", "", 0).fluidCoverage;
-  const double at5 = mf::render::renderFrame(surface, scene, "", "", 5).fluidCoverage;
+  mf::writeParticleFrame(particles, sim.particles(), mf::frameInfoFor(stages.scene));
+  mf::surfacing::surfaceFrame(particles, stages.scene, stages.surfacing, surface, "", 0);
+  const double at0 = mf::render::renderFrame(surface, stages.scene, stages.render, "", "", 0).fluidCoverage;
+  const double at5 = mf::render::renderFrame(surface, stages.scene, stages.render, "", "", 5).fluidCoverage;
   fs::remove_all(dir);
   EXPECT_GE(at0, 0.05);
   EXPECT_EQ(at5, 0.0);
@@ -170,7 +171,7 @@ TEST(CameraKeys, BadKeysAreNamedWithTheirKey) {
     std::vector<std::string> o = more;
     o.push_back(keys);
     try {
-      mf::loadScene("water_oil", o);
+      mf::loadSceneStages("water_oil", o);
     } catch (const mf::SceneError& e) {
       return std::string(e.what());
     }
@@ -215,7 +216,7 @@ max = [0.05, 0.05, 0.05]
 phase = "foo"
 coefficient = 1.0
 )";
-  const mf::Scene sc = mf::parseScene(text, "roles.toml", {"solver.pressure=\"dfsph\""});
+  const mf::SceneStages sc = mf::parseSceneStages(text, "roles.toml", {"solver.pressure=\"dfsph\""});
   const auto& m = sc.render.phaseMaterials;
   ASSERT_EQ(m.size(), 3u);
   EXPECT_EQ(m[0].ior, 1.33);
@@ -226,9 +227,9 @@ coefficient = 1.0
   EXPECT_EQ(m[2].absorption.y, 18.0);  // red: told apart from the water
   // The shipped scenes: pour_glass's trapped air and boiling's vapour are bubbles, boiling's
   // flame glows behind an invisible boundary.
-  const mf::Scene pour = mf::loadScene("pour_glass"), boil = mf::loadScene("boiling");
-  EXPECT_EQ(pour.render.phaseMaterials.at(size_t(pour.phaseIndex("air"))).priority, 20);
-  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("vapour"))).priority, 20);
-  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("flame"))).ior, 1.0);
-  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.phaseIndex("flame"))).priority, 5);
+  const mf::SceneStages pour = mf::loadSceneStages("pour_glass"), boil = mf::loadSceneStages("boiling");
+  EXPECT_EQ(pour.render.phaseMaterials.at(size_t(pour.scene.phaseIndex("air"))).priority, 20);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.scene.phaseIndex("vapour"))).priority, 20);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.scene.phaseIndex("flame"))).ior, 1.0);
+  EXPECT_EQ(boil.render.phaseMaterials.at(size_t(boil.scene.phaseIndex("flame"))).priority, 5);
 }

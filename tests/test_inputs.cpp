@@ -24,7 +24,7 @@
 #include "render/preview.h"
 #include "render/render_frame.h"
 #include "sim/particle_io.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 #include "sim/simulation.h"
 #include "sim/vdb_file.h"
 #include "surfacing/surface_frame.h"
@@ -34,11 +34,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // A dam break of 275 particles over two frames of 1/30 s: files of a few tens of KB.
-mf::Scene tinyScene(std::vector<std::string> sets = {}) {
+mf::SceneStages tinyStages(std::vector<std::string> sets = {}) {
   sets.insert(sets.begin(), {"solver.particle_spacing=0.01", "scene.end_time=0.1", "render.width=8", "render.height=8",
                              "render.samples=1"});
-  return mf::loadScene("dam_break", sets);
+  return mf::loadSceneStages("dam_break", sets);
 }
+mf::Scene tinyScene(std::vector<std::string> sets = {}) { return tinyStages(std::move(sets)).scene; }
 
 fs::path testDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("mf_inputs_" + name + "_" + std::to_string(::getpid()));
@@ -288,7 +289,8 @@ TEST(Checkpoints, HugeFileIsRefusedBeforeReading) {
 // ---- particle and surface files ---------------------------------------------------------------
 
 struct FrameFixture {
-  mf::Scene scene = tinyScene();
+  mf::SceneStages stages = tinyStages();
+  const mf::Scene& scene = stages.scene;
   fs::path dir;
   std::string path, good;
   explicit FrameFixture(const std::string& name) : dir(testDir(name)), path((dir / "particles.0001.vdb").string()) {
@@ -339,8 +341,8 @@ TEST(ParticleFiles, DamagedOrCutShortGiveAnErrorNamingTheFile) {
     const std::string e = errorOf([&] { mf::readParticleFrame(f.path); });
     EXPECT_EQ(e.rfind(f.path + ": not a readable particle file (", 0), 0u) << d.what << ": " << e;
     const std::string mesh = (f.dir / "mesh").string();
-    EXPECT_EQ(errorOf([&] { mf::surfacing::surfaceFrame(f.path, f.scene, surface, mesh, 1); }), e) << d.what;
-    EXPECT_EQ(errorOf([&] { mf::render::renderPreview(f.path, f.scene, png); }), e) << d.what;
+    EXPECT_EQ(errorOf([&] { mf::surfacing::surfaceFrame(f.path, f.scene, f.stages.surfacing, surface, mesh, 1); }), e) << d.what;
+    EXPECT_EQ(errorOf([&] { mf::render::renderPreview(f.path, f.scene, f.stages.render, png); }), e) << d.what;
   }
   EXPECT_FALSE(fs::exists(surface));
   EXPECT_FALSE(fs::exists(png));
@@ -431,8 +433,8 @@ TEST(ParticleFiles, FromAnotherSceneAreRefusedBeforeSurfacingAndPreview) {
   auto write = [&](mf::FrameInfo info) { mf::writeParticleFrame(f.path, ps, info); };
   auto both = [&](const std::string& expected) {
     for (const std::string& e :
-         {errorOf([&] { mf::surfacing::surfaceFrame(f.path, f.scene, surface, (f.dir / "mesh").string(), 1); }),
-          errorOf([&] { mf::render::renderPreview(f.path, f.scene, png); })})
+         {errorOf([&] { mf::surfacing::surfaceFrame(f.path, f.scene, f.stages.surfacing, surface, (f.dir / "mesh").string(), 1); }),
+          errorOf([&] { mf::render::renderPreview(f.path, f.scene, f.stages.render, png); })})
       EXPECT_EQ(e, f.path + ": " + expected);
   };
   mf::FrameInfo info = infoFor(f.scene, 0, 1);
@@ -452,7 +454,7 @@ TEST(ParticleFiles, FromAnotherSceneAreRefusedBeforeSurfacingAndPreview) {
   info.particleSpacing = 0.01 * (1 + 1e-12);
   info.sceneName = "a_copy_of_dam_break";
   write(info);
-  EXPECT_FALSE(mf::surfacing::surfaceFrame(f.path, f.scene, surface, (f.dir / "mesh").string(), 1).skipped);
+  EXPECT_FALSE(mf::surfacing::surfaceFrame(f.path, f.scene, f.stages.surfacing, surface, (f.dir / "mesh").string(), 1).skipped);
   EXPECT_TRUE(fs::exists(surface));
   EXPECT_TRUE(tmp.files().empty());
 }
@@ -462,12 +464,12 @@ TEST(SurfaceFiles, DamagedForeignOrNotLevelSetsGiveAnErrorNamingTheFile) {
   FrameFixture f("surface");
   TempFolderGuard tmp(f.dir / "tmp");
   const std::string surface = (f.dir / "surface.0001.vdb").string(), png = (f.dir / "render.png").string();
-  mf::surfacing::surfaceFrame(f.path, f.scene, surface, (f.dir / "mesh").string(), 1);
+  mf::surfacing::surfaceFrame(f.path, f.scene, f.stages.surfacing, surface, (f.dir / "mesh").string(), 1);
   const std::string good = readBytes(surface);
-  auto render = [&](const mf::Scene& scene) { return errorOf([&] { mf::render::renderFrame(surface, scene, "", png, 1); }); };
+  auto render = [&](const mf::SceneStages& s) { return errorOf([&] { mf::render::renderFrame(surface, s.scene, s.render, "", png, 1); }); };
   for (const Damage& d : damagedCopies(good)) {
     writeBytes(surface, d.bytes);
-    const std::string e = render(f.scene);
+    const std::string e = render(f.stages);
     EXPECT_EQ(e.rfind(surface + ": not a readable surface file (", 0), 0u) << d.what << ": " << e;
   }
   EXPECT_FALSE(fs::exists(png));
@@ -486,16 +488,16 @@ TEST(SurfaceFiles, DamagedForeignOrNotLevelSetsGiveAnErrorNamingTheFile) {
   for (const VdbEdit& edit : edits) {
     writeBytes(surface, good);
     rewriteSealed(surface, edit.apply, edit.seal);
-    const std::string e = render(f.scene);
+    const std::string e = render(f.stages);
     EXPECT_EQ(e.rfind(surface + ": ", 0), 0u) << e;
     EXPECT_NE(e.find(edit.expected), std::string::npos) << e;
   }
   // Another scene's render.phases: the two-fluid scene draws "light" and "heavy".
   writeBytes(surface, good);
-  const mf::Scene twoFluids = mf::loadScene("two_fluids_mixed", {"render.width=8", "render.height=8", "render.samples=1"});
+  const mf::SceneStages twoFluids = mf::loadSceneStages("two_fluids_mixed", {"render.width=8", "render.height=8", "render.samples=1"});
   EXPECT_EQ(render(twoFluids), surface + ": no level set \"light\" (is it in surfacing.phases?)");
   // The control: undamaged, it renders.
-  EXPECT_FALSE(mf::render::renderFrame(surface, f.scene, "", png, 1).skipped);
+  EXPECT_FALSE(mf::render::renderFrame(surface, f.scene, f.stages.render, "", png, 1).skipped);
   EXPECT_TRUE(fs::exists(png));
   EXPECT_TRUE(tmp.files().empty());
 }

@@ -164,7 +164,7 @@ Shape surfacedShape(const Simulation& sim) {
   openvdb::initialize();
   std::vector<openvdb::Vec3d> p;
   for (const Vec3& x : sim.particles().position) p.push_back({x.x, x.y, x.z});
-  const auto surface = surfacing::particlesToSurface(p, {}, sim.particleSpacing(), sim.scene().surfacing);
+  const auto surface = surfacing::particlesToSurface(p, {}, sim.particleSpacing(), SurfacingSettings{});  // the default surfacing
   const Real area = openvdb::tools::levelSetArea(*surface.levelSet);
   const Real volume = openvdb::tools::levelSetVolume(*surface.levelSet);
   return {std::cbrt(kPi) * std::pow(6 * volume, 2.0 / 3.0) / area, volume};

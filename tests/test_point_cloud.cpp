@@ -9,14 +9,15 @@
 #include <sstream>
 
 #include "sim/particle_io.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 #include "sim/simulation.h"
 #include "surfacing/surface_frame.h"
 
 namespace fs = std::filesystem;
 
 TEST(PointCloud, SurfacingWritesEveryParticleWithItsAttributes) {
-  const mf::Scene scene = mf::loadScene("dam_break", {"surfacing.points_ply=true", "solver.particle_spacing=0.00714"});
+  const mf::SceneStages stages = mf::loadSceneStages("dam_break", {"surfacing.points_ply=true", "solver.particle_spacing=0.00714"});
+  const mf::Scene& scene = stages.scene;
   const fs::path dir = fs::temp_directory_path() / ("mf_points_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   mf::Simulation sim(scene);
@@ -24,7 +25,7 @@ TEST(PointCloud, SurfacingWritesEveryParticleWithItsAttributes) {
   const std::string particles = (dir / "particles" / "particles.0000.vdb").string();
   fs::create_directories(dir / "particles");
   mf::writeParticleFrame(particles, sim.particles(), info);
-  const auto r = mf::surfacing::surfaceFrame(particles, scene, (dir / "surface" / "surface.0000.vdb").string(), (dir / "mesh").string(), 0);
+  const auto r = mf::surfacing::surfaceFrame(particles, scene, stages.surfacing, (dir / "surface" / "surface.0000.vdb").string(), (dir / "mesh").string(), 0);
   const fs::path ply = dir / "points" / "points.0000.ply";
   ASSERT_TRUE(fs::exists(ply));
   EXPECT_NE(std::find(r.written.begin(), r.written.end(), ply.string()), r.written.end());

@@ -9,8 +9,8 @@
 
 #include "render/path_tracer.h"
 #include "render/volume_field.h"
-#include "sim/blackbody.h"
-#include "sim/scene_file.h"
+#include "render/blackbody.h"
+#include "pipeline/scene_stages.h"
 #include "surfacing/attribute_grid.h"
 
 using namespace mf;
@@ -144,7 +144,7 @@ TEST(ColourRamps, AbsorptionAndEmissionFromTheFieldMatchBeerLambertAndTheLineInt
 TEST(ColourRamps, SceneKeysAreCheckedWithTheirKey) {
   auto problems = [](const std::vector<std::string>& o) {
     try {
-      loadScene("diffusion", o);
+      loadSceneStages("diffusion", o);
     } catch (const SceneError& e) {
       return std::string(e.what());
     }
@@ -187,9 +187,9 @@ TEST(Blackbody, ChromaticitiesLieOnThePlanckianLocus) {
 }
 
 TEST(Blackbody, AnEmissionRampOverTemperatureGlowsLikeABlackbody) {
-  const Scene sc = loadScene("boiling", {"render.material.flame.emission_ramp={ attribute = \"temperature\", range = [700.0, 1600.0], blackbody = 20.0 }",
+  const SceneStages sc = loadSceneStages("boiling", {"render.material.flame.emission_ramp={ attribute = \"temperature\", range = [700.0, 1600.0], blackbody = 20.0 }",
                                          "surfacing.attributes=[\"temperature\"]"});
-  const ColourRamp& ramp = sc.render.phaseMaterials.at(size_t(sc.phaseIndex("flame"))).emissionRamp;
+  const ColourRamp& ramp = sc.render.phaseMaterials.at(size_t(sc.scene.phaseIndex("flame"))).emissionRamp;
   ASSERT_FALSE(ramp.empty());
   const auto luminance = [](const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; };
   EXPECT_NEAR(luminance(ramp.at(1600)), 20.0, 0.05);  // the stated luminance at the top
@@ -199,7 +199,7 @@ TEST(Blackbody, AnEmissionRampOverTemperatureGlowsLikeABlackbody) {
   EXPECT_GT(ramp.at(1600).x, ramp.at(1600).z);  // still orange, not white
   auto problem = [](const std::vector<std::string>& sets) {
     try {
-      loadScene("boiling", sets);
+      loadSceneStages("boiling", sets);
     } catch (const std::exception& e) {
       return std::string(e.what());
     }
@@ -301,11 +301,11 @@ TEST(MotionBlur, AMovingSquareSmearsOverItsProjectedPathCentredOnTheFrame) {
 
 TEST(MotionBlur, TheShutterNeedsTheVelocityGrids) {
   try {
-    loadScene("dam_break", {"render.shutter=0.5"});
+    loadSceneStages("dam_break", {"render.shutter=0.5"});
     FAIL() << "accepted";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("render.shutter"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("surfacing.velocity = true"), std::string::npos) << e.what();
   }
-  EXPECT_NO_THROW(loadScene("dam_break", {"render.shutter=0.5", "surfacing.velocity=true"}));
+  EXPECT_NO_THROW(loadSceneStages("dam_break", {"render.shutter=0.5", "surfacing.velocity=true"}));
 }

@@ -14,7 +14,7 @@
 
 #include "render/path_tracer.h"
 #include "render/sampler.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 
 namespace fs = std::filesystem;
 using namespace mf;
@@ -111,10 +111,10 @@ checker_size = 0.03
 
 /// Canned input 1: a ball of water standing in an open glass on a checkered table.
 Image waterBallInGlass(const std::vector<std::string>& overrides = {}, int frame = 0) {
-  const Scene sc = parseScene(kGlassScene, "glass", overrides);
+  const SceneStages sc = parseSceneStages(kGlassScene, "glass", overrides);
   std::vector<Surface> surfaces;
   surfaces.push_back({"water", render::levelSetMesh(*sphere(0.045, {0, 0.05f, 0})), sc.render.phaseMaterials[0]});
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   return PathTracer(std::move(surfaces), sc.render).render(frame);
 }
 
@@ -311,13 +311,13 @@ checker_size = 0.02
 ior = 1.0
 priority = 20
 )";
-  const Scene sc = parseScene(text, "bubble");
+  const SceneStages sc = parseSceneStages(text, "bubble");
   auto water = openvdb::tools::createLevelSetBox<openvdb::FloatGrid>(
       openvdb::BBoxd(openvdb::Vec3d(-0.05, 0, -0.05), openvdb::Vec3d(0.05, 0.08, 0.05)), *openvdb::math::Transform::createLinearTransform(0.002));
   std::vector<Surface> surfaces;
   surfaces.push_back({"water", render::levelSetMesh(*water), sc.render.phaseMaterials[0]});
   surfaces.push_back({"air", render::levelSetMesh(*sphere(0.015, {0, 0.04f, 0})), sc.render.phaseMaterials[1]});
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   const auto d = checkGolden("air_bubble_in_water", PathTracer(std::move(surfaces), sc.render).render(0));
   EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
 }
@@ -373,11 +373,11 @@ scattering = 150.0
 [render.material.vessel]
 thickness = 0.006
 )";
-  const Scene sc = parseScene(text, "lamp");
+  const SceneStages sc = parseSceneStages(text, "lamp");
   std::vector<Surface> surfaces;
   auto blob = sphere(0.09, {0.02f, 0.45f, 0}, 0.004f);
   surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
-  for (auto& s : render::solidSurfaces(sc)) surfaces.push_back(std::move(s));
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   const auto d = checkGolden("wax_blob_in_lamp", PathTracer(std::move(surfaces), sc.render).render(0));
   EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
 }

@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "sim/effect.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 
 namespace {
 
@@ -154,16 +154,16 @@ TEST(SceneReference, EveryKeyTheParserReadsIsInTheReference) {
   const auto rows = referenceRows(text.str());
   std::set<std::string> paths;
   for (const std::string& name : mf::embeddedSceneNames())
-    for (const auto& p : mf::keyDefaultsReadBy([&] { mf::loadScene(name); })) paths.insert(p.first);
-  for (const auto& p : mf::keyDefaultsReadBy([&] { mf::parseScene(kBase, "ref.toml"); })) paths.insert(p.first);
+    for (const auto& p : mf::keyDefaultsReadBy([&] { mf::loadSceneStages(name); })) paths.insert(p.first);
+  for (const auto& p : mf::keyDefaultsReadBy([&] { mf::parseSceneStages(kBase, "ref.toml"); })) paths.insert(p.first);
   std::vector<std::string> missing;
   size_t checked = 0;
   Defaults defaults;
   auto noteDefaults = [&](const std::map<std::string, std::string>& read) {
     for (const auto& [path, def] : read) defaults[tableAndKey(path)].insert(def);
   };
-  for (const std::string& name : mf::embeddedSceneNames()) noteDefaults(mf::keyDefaultsReadBy([&] { mf::loadScene(name); }));
-  noteDefaults(mf::keyDefaultsReadBy([&] { mf::parseScene(kBase, "ref.toml"); }));
+  for (const std::string& name : mf::embeddedSceneNames()) noteDefaults(mf::keyDefaultsReadBy([&] { mf::loadSceneStages(name); }));
+  noteDefaults(mf::keyDefaultsReadBy([&] { mf::parseSceneStages(kBase, "ref.toml"); }));
   for (const mf::EffectInfo& info : mf::effectRegistry()) {
     auto note = [&](const std::string& table, const mf::EffectParam& p) {
       std::string d;

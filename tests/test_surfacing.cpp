@@ -17,7 +17,7 @@
 #include <random>
 
 #include "sim/particle_io.h"
-#include "sim/scene_file.h"
+#include "pipeline/scene_stages.h"
 #include "surfacing/bodies.h"
 #include "surfacing/mesh_io.h"
 #include "surfacing/particle_surface.h"
@@ -283,8 +283,9 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   // The scene's spacing is the file's: surfacing refuses particles of another spacing.
-  const mf::Scene scene = mf::loadScene("two_fluids_mixed", {"solver.particle_spacing=0.01", "surfacing.fog=true",
-                                                             "surfacing.velocity=true", "surfacing.meshes=[\"ply\",\"obj\"]"});
+  const mf::SceneStages stages = mf::loadSceneStages("two_fluids_mixed", {"solver.particle_spacing=0.01", "surfacing.fog=true",
+                                                                        "surfacing.velocity=true", "surfacing.meshes=[\"ply\",\"obj\"]"});
+  const mf::Scene& scene = stages.scene;
   mf::ParticleSet ps;
   // Two blocks, one per phase, written as the simulation would.
   const auto light = lattice({0.02, 0.1, 0.02}, {0.12, 0.14, 0.08}, 0.0, 6), heavy = lattice({0.02, 0.0, 0.02}, {0.12, 0.1, 0.08}, 0.0, 7);
@@ -308,7 +309,7 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   mf::writeParticleFrame(particleFile, ps, info);
 
   const std::string surfaceFile = (dir / "surface" / "surface.0007.vdb").string();
-  const auto result = mf::surfacing::surfaceFrame(particleFile, scene, surfaceFile, (dir / "mesh").string(), 7);
+  const auto result = mf::surfacing::surfaceFrame(particleFile, scene, stages.surfacing, surfaceFile, (dir / "mesh").string(), 7);
   EXPECT_FALSE(result.skipped);
   EXPECT_EQ(result.written.size(), 5u);  // 2 phases x (ply + obj) + the VDB
   EXPECT_TRUE(fs::exists(dir / "mesh" / "light.0007.ply"));
@@ -320,7 +321,7 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
   std::vector<std::string> names;
   for (const auto& g : *grids) names.push_back(g->getName());
   EXPECT_EQ(names, (std::vector<std::string>{"light", "density", "vel", "heavy", "density_heavy", "vel_heavy"}));
-  const double voxel = scene.surfacing.voxelRatio * kSpacing;
+  const double voxel = stages.surfacing.voxelRatio * kSpacing;
   for (const auto& g : *grids) {
     EXPECT_NEAR(g->voxelSize()[0], voxel, 1e-12) << g->getName();
     if (g->getName() == "light" || g->getName() == "heavy") {
@@ -337,7 +338,7 @@ TEST(Surfacing, FrameFileReadsBackAsDccToolsExpect) {
     }
   }
   // Complete output is not redone.
-  EXPECT_TRUE(mf::surfacing::surfaceFrame(particleFile, scene, surfaceFile, (dir / "mesh").string(), 7).skipped);
+  EXPECT_TRUE(mf::surfacing::surfaceFrame(particleFile, scene, stages.surfacing, surfaceFile, (dir / "mesh").string(), 7).skipped);
   fs::remove_all(dir);
 }
 

@@ -53,7 +53,7 @@ def add_absorption(tree, out, sigma, extra=None):
 
 
 def make_material(name, m):
-    """The renderer's material kinds (sim/scene.h MaterialSpec) in Cycles nodes."""
+    """The renderer's material kinds (render/settings.h MaterialSpec) in Cycles nodes."""
     mat = bpy.data.materials.new(name)
     tree, out = node_tree(mat)
     mat["multifluid_kind"] = m["kind"]

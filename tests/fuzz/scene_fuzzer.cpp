@@ -1,4 +1,4 @@
-// libFuzzer target: mf::parseScene, then the budget check (mf::checkSceneBudget) of a scene it
+// libFuzzer target: mf::parseSceneStages (every stage's tables), then the budget check (mf::checkSceneBudget) of a scene it
 // accepts, on arbitrary bytes. A scene the reader refuses must be refused
 // with mf::SceneError, every problem of which names the file; anything else (another exception,
 // a crash, a sanitizer report, a timeout, memory over the limit) is a bug.
@@ -9,15 +9,15 @@
 #include <cstdlib>
 #include <string>
 
+#include "pipeline/scene_stages.h"
 #include "sim/scene_budget.h"
-#include "sim/scene_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string kFile = "fuzz.toml";
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    const mf::Scene scene = mf::parseScene(text, kFile);
-    mf::checkSceneBudget(scene);
+    const mf::SceneStages s = mf::parseSceneStages(text, kFile);
+    mf::checkSceneBudget(s.scene, {}, {s.surfacing.voxelRatio, double(s.render.width), double(s.render.height)});
   } catch (const mf::SceneError& e) {
     if (e.problems().empty()) {
       std::fprintf(stderr, "SceneError with no problem\n");

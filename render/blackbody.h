@@ -1,13 +1,13 @@
 // The colour of a blackbody: Planck's spectral radiance integrated against the CIE 1931 2°
 // colour matching functions (the multi-lobe Gaussian fit of Wyman, Sloan & Shirley 2013,
 // JCGT 2(2)) from 360 to 830 nm, in linear sRGB (D65 white, Rec. 709 primaries). Used for
-// flames: emission_ramp = { attribute = "temperature", blackbody = ... } (sim/scene_render.cpp).
+// flames: emission_ramp = { attribute = "temperature", blackbody = ... } (render/settings_file.cpp).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
-#include "vec3.h"
+#include "sim/vec3.h"
 
 namespace mf {
 

@@ -7,9 +7,15 @@
 #include <cmath>
 
 #include "blackbody.h"
-#include "scene_reader.h"
+#include "settings.h"
+#include "sim/scene_reader.h"
+#include "surfacing/settings.h"
 
-namespace mf::scene_reading {
+namespace mf {
+
+using scene_reading::readShape;
+using scene_reading::Reader;
+using scene_reading::TableReader;
 
 namespace {
 
@@ -234,13 +240,13 @@ void readCameraKeys(Reader& r, TableReader& t, RenderSettings& o, bool staticCam
 
 }  // namespace
 
-/// See scene_reader.h.
-void readRender(Reader& r, TableReader& top, Scene& sc) {
-  RenderSettings& o = sc.render;
+RenderSettings readRenderSettings(scene_reading::SceneDocument& doc, const Scene& sc, const SurfacingSettings& surfacing) {
+  Reader& r = doc.reader;
+  RenderSettings o;
   int liquids = 0;
   for (PhaseRole role : phaseRoles(sc)) o.phaseMaterials.push_back(defaultPhaseMaterial(role, liquids));
   o.solidMaterials.assign(sc.solids.size(), defaultSolidMaterial());
-  TableReader t(r, top.table("render"), "render");
+  TableReader t(r, doc.stageTable("render"), "render");
   o.width = t.integer("width", o.width, 8, 16384, "pixels");
   o.height = t.integer("height", o.height, 8, 16384, "pixels");
   o.samples = t.integer("samples", o.samples, 1, 1e5, "per pixel");
@@ -249,30 +255,19 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   o.regularise = t.number("regularise", o.regularise, 0, 45, "degrees (0 = off)");
   o.shutter = t.number("shutter", o.shutter, 0, 1, "of the frame interval (0 = no motion blur)");
   // The blur moves each surface by the velocity grid that surfacing writes.
-  if (o.shutter > 0 && !sc.surfacing.velocity)
+  if (o.shutter > 0 && !surfacing.velocity)
     r.problem(t.node("shutter"), "render.shutter", "motion blur needs the velocity grids: set surfacing.velocity = true");
   o.sobol = t.boolean("sobol", o.sobol);
   o.mis = t.boolean("mis", o.mis);
   o.animatedSeed = t.boolean("animated_seed", o.animatedSeed);
   o.denoise = t.boolean("denoise", o.denoise);
   o.denoiseIterations = t.integer("denoise_iterations", o.denoiseIterations, 1, 8, "passes");
-  if (t.has("phases")) {
-    const toml::node* pn = t.node("phases");
-    const toml::array* pa = pn->as_array();
-    if (!pa) r.problem(pn, "render.phases", "expected an array of phase names");
-    else
-      for (const toml::node& e : *pa) {
-        const int pi = sc.phaseIndex(e.value<std::string>().value_or(""));
-        if (pi < 0) r.problem(&e, "render.phases", "unknown phase \"" + e.value<std::string>().value_or("?") + "\"");
-        else if (std::find(sc.surfacing.phases.begin(), sc.surfacing.phases.end(), pi) == sc.surfacing.phases.end())
-          r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is not in surfacing.phases, so it has no level set to render");
-        else if (std::find(o.phases.begin(), o.phases.end(), uint16_t(pi)) != o.phases.end())
-          r.problem(&e, "render.phases", "phase \"" + sc.phases[pi].name + "\" is listed twice");
-        else o.phases.push_back(uint16_t(pi));
-      }
-  } else {
-    o.phases = sc.surfacing.phases;
-  }
+  const auto surfaced = [&](int p) {
+    return std::find(surfacing.phases.begin(), surfacing.phases.end(), p) != surfacing.phases.end()
+               ? std::string()
+               : "phase \"" + sc.phases[size_t(p)].name + "\" is not in surfacing.phases, so it has no level set to render";
+  };
+  if (!t.phaseNames("phases", sc, o.phases, surfaced)) o.phases = surfacing.phases;
   const bool staticCamera = t.has("camera_position") || t.has("look_at");
   o.cameraPosition = t.vec3("camera_position", o.cameraPosition);
   o.lookAt = t.vec3("look_at", o.lookAt);
@@ -325,7 +320,7 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
   for (size_t p = 0; p < sc.phases.size(); ++p)
     for (const auto& [key, ramp] : {std::pair<const char*, const ColourRamp*>{"absorption_ramp", &o.phaseMaterials[p].absorptionRamp},
                                     {"emission_ramp", &o.phaseMaterials[p].emissionRamp}}) {
-      const auto& attrs = sc.surfacing.attributes;
+      const auto& attrs = surfacing.attributes;
       if (!ramp->empty() && std::find(attrs.begin(), attrs.end(), ramp->attribute) == attrs.end()) {
         const std::string path = "render.material." + sc.phases[p].name + "." + key;
         r.problemAt(r.lines.count(path) ? r.lines.at(path) : 0, path,
@@ -357,7 +352,7 @@ void readRender(Reader& r, TableReader& top, Scene& sc) {
                                   solids ? "solids" : "fluid blocks", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, o.cameraPosition.x,
                                   o.cameraPosition.y, o.cameraPosition.z);
   }
+  return o;
 }
 
-
-}  // namespace mf::scene_reading
+}  // namespace mf
