@@ -42,11 +42,15 @@ struct PathTracer::Impl {
   std::vector<std::string> maskNames;  // the fluids' names (AOV masks)
   std::vector<int> maskOf;             // per geometry: its index in maskNames, -1 for solids
   RampMedia ramps;  // the media whose coefficients come from attribute grids
+  // The camera ray cone's spread, radians: a pixel's angle at the image centre over sqrt(samples),
+  // the share of the pixel one sample stands for (as pbrt scales its ray differentials), so that
+  // the filtered texture converges to the point-sampled one as the samples grow.
+  Real pixelSpread;
 
   Impl(std::vector<Surface> surfaces_, const RenderSettings& s, double frameInterval)
       : settings(s), surfaces(std::move(surfaces_)), geometry(surfaces, s.shutter * frameInterval),
         epsilon(geometry.epsilon()), camera(s), nextCamera(s), blur(s.shutter > 0 && frameInterval > 0),
-        light(s), sky(s) {
+        light(s), sky(s), pixelSpread(2 * camera.tanHalf / camera.height / std::sqrt(Real(std::max(1, s.samples)))) {
     for (const Surface& sf : surfaces) {
       materials.push_back(sf.material);
       int m = -1;
@@ -59,11 +63,37 @@ struct PathTracer::Impl {
     }
   }
 
-  /// The table top's colour at p: a checkerboard of `checkerSize`, or plain grey.
-  Vec3 floorAlbedo(const Vec3& p) const {
+  /// The table top's colour at p: a checkerboard of `checkerSize`, or plain grey. Seen along a
+  /// specular chain from the camera, the checkerboard is box-filtered over the ray's footprint on
+  /// the table (a ray cone: `width` across the ray, stretched by 1/|d.y| along it), so that squares
+  /// smaller than a pixel give their mean rather than flicker between black and white from one
+  /// sample to the next; width 0 (after a diffuse bounce) takes a point sample.
+  Vec3 floorAlbedo(const Vec3& p, const Vec3& d, Real width) const {
     if (settings.checkerSize <= 0) return {0.6, 0.6, 0.6};
-    const long i = long(std::floor(p.x / settings.checkerSize)) + long(std::floor(p.z / settings.checkerSize));
-    return (i & 1) ? Vec3{0.15, 0.15, 0.15} : Vec3{0.75, 0.75, 0.75};
+    const Real cs = settings.checkerSize;
+    Real hx = 0, hz = 0;  // the footprint's half-extents along x and z, in squares
+    if (width > 0) {
+      const Real across = std::hypot(d.x, d.z);
+      const Real ux = across > 0 ? d.x / across : 1, uz = across > 0 ? d.z / across : 0;
+      const Real along = width / std::max(std::abs(d.y), Real(1e-3));
+      hx = 0.5 * std::hypot(along * ux, width * uz) / cs;
+      hz = 0.5 * std::hypot(along * uz, width * ux) / cs;
+    }
+    // A square is dark where exactly one of floor(x), floor(z) is odd.
+    const Real fx = oddFraction(p.x / cs, hx), fz = oddFraction(p.z / cs, hz);
+    const Real dark = fx * (1 - fz) + fz * (1 - fx);
+    return Vec3{0.75, 0.75, 0.75} * (1 - dark) + Vec3{0.15, 0.15, 0.15} * dark;
+  }
+
+  /// The fraction of [x - h, x + h] where floor(x) is odd (h = 0: 0 or 1), from the integral of
+  /// that indicator, B(x) = floor(x/2) + max(x - 2 floor(x/2) - 1, 0).
+  static Real oddFraction(Real x, Real h) {
+    if (h <= 0 || std::floor(x - h) == std::floor(x + h)) return (long(std::floor(x)) & 1) ? 1 : 0;
+    auto B = [](Real y) {
+      const Real f = std::floor(y / 2);
+      return f + std::max(y - 2 * f - 1, Real(0));
+    };
+    return (B(x + h) - B(x - h)) / (2 * h);
   }
 
   /// The nearest hit along o + t d, t in (0, tfar), of the meshes, the table and the lamp;
@@ -222,6 +252,7 @@ struct PathTracer::Impl {
     Vec3 misVertex;
     Real misLobePdf = 0;
     int bounces = 0, passes = 0;
+    Real travelled = 0;  // along the specular chain from the camera: the ray cone's length
     // Light found by following specular chains after a diffuse vertex (caustics: no light
     // sample can find it) has huge variance at a few samples; like Cycles' "clamp indirect", cap
     // such contributions. Light samples (bounded by the light's solid angle) are never capped.
@@ -242,6 +273,7 @@ struct PathTracer::Impl {
       smp.startBounce(bounces);
       intersect(o, d, 1e30, leaving, leavingPrim, rays, record, h);
       if (chain) recordHit(h, d, primary, *first);
+      if (h.kind != Hit::None) travelled += h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
         const MaterialSpec& m = materials[medium];
@@ -314,7 +346,7 @@ struct PathTracer::Impl {
         break;
       }
       if (!m || m->kind == MaterialSpec::Kind::Diffuse) {  // the table, or a diffuse mesh
-        const Vec3 albedo = m ? m->colour : floorAlbedo(h.p);
+        const Vec3 albedo = m ? m->colour : floorAlbedo(h.p, d, indirect ? 0 : pixelSpread * travelled);
         closeChain(albedo);
         if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
         add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, rays, record, shadow)), false);

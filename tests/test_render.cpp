@@ -18,6 +18,7 @@
 
 namespace fs = std::filesystem;
 using namespace mf;
+using render::Aovs;
 using render::Image;
 using render::PathTracer;
 using render::Surface;
@@ -119,6 +120,35 @@ Image waterBallInGlass(const std::vector<std::string>& overrides = {}, int frame
 }
 
 }  // namespace
+
+// The table's checkerboard, seen from the camera, is box-filtered over the ray's footprint (a
+// ray cone of a pixel's angle over sqrt(samples)). At 1 sample per pixel, squares 23 times
+// smaller than a pixel give each pixel their mean albedo, (0.75 + 0.15) / 2, where a point
+// sample gives 0.15 or 0.75 at random; squares 40 times larger than a pixel stay sharp: a pixel
+// is one colour or the other unless an edge crosses its footprint.
+TEST(Render, ACheckerboardFinerThanAPixelGivesItsMeanNotNoise) {
+  auto albedoOf = [](Real checker) {
+    RenderSettings s;
+    s.width = s.height = 64, s.samples = 1;
+    s.cameraPosition = {0, 1, 0}, s.lookAt = {0, 0, -0.01}, s.fov = 40;  // straight down on the table
+    s.floorHeight = 0, s.checkerSize = checker;
+    Aovs aovs;
+    PathTracer(std::vector<Surface>{}, s).render(0, nullptr, {}, nullptr, &aovs);
+    return aovs.albedo;  // the first diffuse surface's colour, per pixel
+  };
+  // A pixel spans 2 tan(20 deg) / 64 = 11.4 mm of table here.
+  const std::vector<float> fine = albedoOf(0.0005);
+  double worst = 0;
+  for (size_t p = 0; p < fine.size(); p += 3) worst = std::max(worst, std::abs(fine[p] - 0.45));
+  // 23 x 23 squares per footprint: the part-squares at its edges move the mean by at most about
+  // 2 / 23 of the 0.6 contrast (0.05); a point sample would be 0.3 off everywhere.
+  EXPECT_LT(worst, 0.05);
+  const std::vector<float> coarse = albedoOf(0.45);
+  size_t pure = 0;
+  for (size_t p = 0; p < coarse.size(); p += 3) pure += coarse[p] == 0.75f || coarse[p] == 0.15f;
+  // 64 x 64 pixels over 1.6 x 1.6 squares: the two edges crossing the image touch 2 x 64 pixels.
+  EXPECT_GT(pure, coarse.size() / 3 - 2 * 64 - 8);
+}
 
 TEST(Render, BallOfWaterInvertsTheBackdrop) {
   // A water ball (n = 1.33) is a lens of focal length nR / (2 (n - 1)) = 2.0 R from its centre;
