@@ -101,10 +101,9 @@ struct PathTracer::Impl {
   /// (shadow rays need only the geometric one). `hit`: the caller's (filled in, not cleared:
   /// only what the kind of hit needs is valid). `knownLight`: light.intersect(o, d) where the
   /// caller has it already.
-  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, uint64_t& rays,
-                           std::vector<RecordedRay>* record, Hit& hit, bool shading = true,
+  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, RayLog& log, Hit& hit, bool shading = true,
                            const Real* knownLight = nullptr) const {
-    geometry.intersect(o, d, tfar, leaving, leavingPrim, rays, record, hit, shading);
+    geometry.intersect(o, d, tfar, leaving, leavingPrim, log, hit, shading);
     Real best = hit.kind == Hit::Mesh ? hit.t : tfar;
     if (settings.floor && d.y < 0 && o.y > settings.floorHeight) {
       const Real t = (settings.floorHeight - o.y) / d.y;
@@ -127,13 +126,12 @@ struct PathTracer::Impl {
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
   /// `crossed`: set when the ray crossed a surface (a path the BSDF sampling cannot make).
-  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, uint64_t& rays,
-                     std::vector<RecordedRay>* record, Hit& h, bool& crossed) const {
+  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, RayLog& log, Hit& h, bool& crossed) const {
     crossed = false;
     Vec3 T{1, 1, 1};
     const Real firstLight = dist;  // the caller's light.intersect(o, d)
     for (int crossing = 0; crossing < 32; ++crossing) {
-      intersect(o, d, dist, leaving, leavingPrim, rays, record, h, false, crossing == 0 ? &firstLight : nullptr);
+      intersect(o, d, dist, leaving, leavingPrim, log, h, false, crossing == 0 ? &firstLight : nullptr);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
@@ -168,7 +166,7 @@ struct PathTracer::Impl {
   /// `cone`: instead, a uniform cone of directions around *cone with cosine coneCos (a
   /// regularised mirror, see trace).
   Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Real u1, Real u2,
-                   uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch, const Vec3* cone = nullptr,
+                   RayLog& log, Hit& scratch, const Vec3* cone = nullptr,
                    Real coneCos = 1) const {
     if (!light.present()) return {};
     Vec3 dir;
@@ -188,7 +186,7 @@ struct PathTracer::Impl {
     const Real tl = light.intersect(p, dir, epsilon);
     if (tl <= 0) return {};
     bool crossed;
-    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, rays, record, scratch, crossed);
+    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, log, scratch, crossed);
     // A shadow ray through surfaces stands for paths that refraction would bend: the lobe's
     // sampling never makes them (trace drops its light hits there), so the light sample keeps
     // its full weight.
@@ -235,7 +233,7 @@ struct PathTracer::Impl {
   /// `h`, `shadow`: scratch hits (the caller's, so that they are not cleared for every path).
   /// `first`: where to record the primary hit and the specular chain's albedo and fluid (AOVs);
   /// recording draws no samples, so the path is the same with or without.
-  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, uint64_t& rays, std::vector<RecordedRay>* record, Hit& h, Hit& shadow,
+  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, RayLog& log, Hit& h, Hit& shadow,
              PrimarySample* first = nullptr) const {
     Vec3 L, throughput{1, 1, 1};
     bool primary = first != nullptr;  // the next hit is the camera ray's
@@ -271,7 +269,7 @@ struct PathTracer::Impl {
     };
     while (bounces < settings.maxDepth) {
       smp.startBounce(bounces);
-      intersect(o, d, 1e30, leaving, leavingPrim, rays, record, h);
+      intersect(o, d, 1e30, leaving, leavingPrim, log, h);
       if (chain) recordHit(h, d, primary, *first);
       if (h.kind != Hit::None) travelled += h.t;
       const int medium = stack.top(materials);
@@ -300,7 +298,7 @@ struct PathTracer::Impl {
             }
             Real u1, u2;
             smp.next2D(u1, u2);
-            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, rays, record, shadow)));
+            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, log, shadow)));
             indirect = true;
             lightCounted = true;
             newSegment(p);
@@ -349,7 +347,7 @@ struct PathTracer::Impl {
         const Vec3 albedo = m ? m->colour : floorAlbedo(h.p, d, indirect ? 0 : pixelSpread * travelled);
         closeChain(albedo);
         if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
-        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, rays, record, shadow)), false);
+        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, log, shadow)), false);
         leaving = m ? h.material : -1;
         leavingPrim = h.prim;
         indirect = true;
@@ -411,7 +409,7 @@ struct PathTracer::Impl {
           const Real coneCos = std::cos(settings.regularise * M_PI / 180);
           Real u1, u2;
           smp.next2D(u1, u2);
-          add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, rays, record, shadow, &next, coneCos)),
+          add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, log, shadow, &next, coneCos)),
               false);
           smp.next2D(u1, u2);
           const Vec3 blurred = sampleCone(next, coneCos, u1, u2);
@@ -434,13 +432,13 @@ struct PathTracer::Impl {
   }
 
   Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Sampler& smp,
-                     uint64_t& rays, std::vector<RecordedRay>* record, Hit& scratch) const {
+                     RayLog& log, Hit& scratch) const {
     // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
     const bool mesh = h.kind == Hit::Mesh;
     const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
     Real u1, u2;
     smp.next2D(u1, u2);
-    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, rays, record, scratch));
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, log, scratch));
     o = p;
     smp.next2D(u1, u2);
     d = cosineHemisphere(h.ns, u1, u2);
@@ -496,8 +494,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   std::mutex progressMutex;
   // One row per task: pixels are independent, so the schedule cannot change any value.
   tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
-    uint64_t& count = rays.local();
-    std::vector<RecordedRay>* rec = record ? &recorded.local() : nullptr;
+    RayLog log{0, record ? &recorded.local() : nullptr};
     Hit hit, shadow;
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < s.width; ++x) {
@@ -514,7 +511,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           if (im.blur) hit.time = shadow.time = float(smp.get1D(Sampler::kTimePair));
           const Vec3 d = im.camera.direction(x + jx, y + jy);
           PrimarySample first;
-          Vec3 c = im.trace(s.cameraPosition, d, smp, count, rec, hit, shadow, aovs ? &first : nullptr);
+          Vec3 c = im.trace(s.cameraPosition, d, smp, log, hit, shadow, aovs ? &first : nullptr);
           if (!isFinite(c)) c = {};
           sum += c;
           if (aovs) aov.add(first, c);
@@ -528,6 +525,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
         progress(done, s.height);
       }
     }
+    rays.local() += log.rays;
   });
   if (stats) {
     stats->rays = rays.combine(std::plus<uint64_t>());

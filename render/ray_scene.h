@@ -51,6 +51,13 @@ inline RTCRayHit makeRay(float ox, float oy, float oz, float dx, float dy, float
   return rh;
 }
 
+/// One thread's tally while tracing: the rays cast (RenderStats), and every ray where `record`
+/// is set (bench/render_bench replays them for bare traversal).
+struct RayLog {
+  uint64_t rays = 0;
+  std::vector<RecordedRay>* record = nullptr;
+};
+
 class RayScene {
  public:
   /// Geometry id g is surfaces[g]. The ray offset is relative to the surfaces' bounding box.
@@ -66,9 +73,8 @@ class RayScene {
 
   /// The nearest triangle along o + t d, t in (0, tfar): hit.kind Mesh (t, material, prim, ng,
   /// and with `shading` the interpolated normal ns) or None; `leaving`: the geometry o lies on,
-  /// or -1. Counts the ray, and records it where `record` is given.
-  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, uint64_t& rays,
-                           std::vector<RecordedRay>* record, Hit& hit, bool shading) const {
+  /// or -1. Counts the ray in `log`, and records it where the log keeps rays.
+  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, RayLog& log, Hit& hit, bool shading) const {
     hit.kind = Hit::None;
     hit.material = -1;
     SkipContext skip;
@@ -86,9 +92,9 @@ class RayScene {
     RTCRayHit rh = makeRay(float(o.x), float(o.y), float(o.z), float(d.x), float(d.y), float(d.z), tnear,
                            float(std::min(tfar, 1e30)));
     rh.ray.time = hit.time;
-    if (record) record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
+    if (log.record) log.record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
     rtcIntersect1(scene_, &skip.context, &rh);
-    ++rays;
+    ++log.rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     hit.kind = Hit::Mesh;
     hit.t = rh.ray.tfar;
