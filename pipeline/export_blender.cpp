@@ -43,13 +43,14 @@ std::string num(double v) {
 }
 std::string vec(const Vec3& v) { return "[" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + "]"; }
 
-/// An emission ramp: the grid it reads (surfacing's <attribute>_<fluid>), its range and colours.
-std::string emissionRamp(const MaterialSpec& m, const std::string& fluid) {
-  if (m.emissionRamp.empty()) return "null";
+/// An emission or absorption ramp: the grid it reads (surfacing's <attribute>_<fluid>), its range
+/// and colours.
+std::string rampJson(const ColourRamp& ramp, const std::string& fluid) {
+  if (fluid.empty() || ramp.empty()) return "null";
   std::string colours;
-  for (const Vec3& c : m.emissionRamp.colours) colours += (colours.empty() ? "" : ", ") + vec(c);
-  return fmt::format(R"({{"grid": {}, "range": [{}, {}], "colours": [{}]}})", str(m.emissionRamp.attribute + "_" + fluid),
-                     num(m.emissionRamp.lo), num(m.emissionRamp.hi), colours);
+  for (const Vec3& c : ramp.colours) colours += (colours.empty() ? "" : ", ") + vec(c);
+  return fmt::format(R"({{"grid": {}, "range": [{}, {}], "colours": [{}]}})", str(ramp.attribute + "_" + fluid), num(ramp.lo),
+                     num(ramp.hi), colours);
 }
 
 std::string material(const MaterialSpec& m, const std::string& fluid = "") {
@@ -57,9 +58,9 @@ std::string material(const MaterialSpec& m, const std::string& fluid = "") {
                      : m.kind == MaterialSpec::Kind::Medium   ? "medium"
                      : m.kind == MaterialSpec::Kind::Diffuse  ? "diffuse"
                                                               : "emitter";
-  return fmt::format(R"({{"kind": {}, "ior": {}, "absorption": {}, "scattering": {}, "colour": {}, "emission": {}, "priority": {}, "visible": {}, "emission_ramp": {}}})",
+  return fmt::format(R"({{"kind": {}, "ior": {}, "absorption": {}, "scattering": {}, "colour": {}, "emission": {}, "priority": {}, "visible": {}, "emission_ramp": {}, "absorption_ramp": {}}})",
                      str(kind), num(m.ior), vec(m.absorption), num(m.scattering), vec(m.colour), vec(m.emission), m.priority,
-                     m.visible ? "true" : "false", fluid.empty() ? "null" : emissionRamp(m, fluid));
+                     m.visible ? "true" : "false", rampJson(m.emissionRamp, fluid), rampJson(m.absorptionRamp, fluid));
 }
 
 /// The container's wall as the renderer traces it (render::solidMesh), in scene coordinates.

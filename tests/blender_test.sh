@@ -136,6 +136,38 @@ print("emission ramp: 32 elements; %d orange pixels in Cycles" % glow)
 assert glow > 0, "no pixel glows orange"
 ' -- "$work/boil_render.png" > "$work/boil_check.log" 2>&1 || fail "the emission ramp in Blender: $(grep -E 'Error|assert' "$work/boil_check.log" | tail -5)"
 grep '^emission ramp' "$work/boil_check.log"
+# An absorption ramp (diffusion's liquid, tinted by temperature): a visible volume object of the
+# VDB sequence absorbs sigma_a from the ramp over the temperature grid inside the level set, in
+# Cycles' terms (density 18 per m, colour 1 - sigma / 18); the liquid mesh keeps no constant
+# absorption; Cycles renders the hot half red, as our renderer does.
+"$bin" run diffusion --set solver.particle_spacing=0.01 --set scene.end_time=0.2 --threads 2 --stages sim,surface \
+  --out "$work/dif" 2> "$work/dif.log" || fail "the diffusion run failed: $(tail -5 "$work/dif.log")"
+"$bin" export blender "$work/dif" --out "$work/dif/dif.blend" 2> "$work/export_dif.log" ||
+  fail "export of the diffusion run failed: $(cat "$work/export_dif.log")"
+blender -b "$work/dif/dif.blend" --factory-startup --python-exit-code 1 --python-expr '
+import bpy, sys
+out = sys.argv[sys.argv.index("--") + 1]
+obj = bpy.data.objects["liquid_absorption"]
+assert obj.type == "VOLUME" and not obj.hide_render, "liquid_absorption is not a visible volume"
+nodes = obj.data.materials[0].node_tree.nodes
+names = sorted(n.attribute_name for n in nodes if n.type == "ATTRIBUTE")
+assert names == ["liquid", "temperature_liquid"], "attributes read: %s" % names
+assert [n for n in nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "no Volume Absorption"
+want = [[1 - c / 18 for c in s] for s in ([4.0, 1.2, 0.8], [1.5, 8.0, 5.0], [0.6, 18.0, 12.0])]  # diffusion.toml
+got = [list(e.color[:3]) for e in [n for n in nodes if n.type == "VALTORGB"][0].color_ramp.elements]
+assert len(got) == 3 and all(abs(a - b) < 1e-6 for g, w in zip(got, want) for a, b in zip(g, w)), "ramp %s, expected %s" % (got, want)
+mesh_nodes = bpy.data.objects["liquid"].data.materials[0].node_tree.nodes
+assert not [n for n in mesh_nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "the liquid mesh still absorbs a constant"
+s = bpy.context.scene
+s.render.engine = "CYCLES"; s.cycles.samples = 8; s.render.resolution_x, s.render.resolution_y = 64, 36
+s.render.resolution_percentage = 100; s.frame_set(2)
+s.render.filepath = out; bpy.ops.render.render(write_still=True)
+img = bpy.data.images.load(out); px = list(img.pixels)
+red = sum(1 for i in range(0, len(px), 4) if px[i] > 0.05 and px[i] > 1.5 * px[i + 1])
+print("absorption ramp: 3 elements; %d red pixels in Cycles" % red)
+assert red > 0, "no pixel is tinted red"
+' -- "$work/dif_render.png" > "$work/dif_check.log" 2>&1 || fail "the absorption ramp in Blender: $(grep -E 'Error|assert' "$work/dif_check.log" | tail -5)"
+grep '^absorption ramp' "$work/dif_check.log"
 # The PLY point cloud in Blender's PLY importer: every particle a vertex; which properties it keeps.
 ply=$work/run/points/points.0002.ply
 n=$(head -c 2000 "$ply" | grep -a -m1 '^element vertex' | awk '{print $3}')

@@ -71,7 +71,7 @@ def make_material(name, m):
             scatter.inputs["Color"].default_value = (1, 1, 1, 1)
             extra = scatter
         # Emission as radiance per metre, in any volume (the renderer's flames are dielectrics);
-        # an emission ramp replaces it (emission_volume).
+        # an emission ramp replaces it (ramp_volume).
         e = m["emission"]
         if max(e) > 0 and not m.get("emission_ramp"):
             em = tree.nodes.new("ShaderNodeEmission")
@@ -84,7 +84,8 @@ def make_material(name, m):
                 tree.links.new(extra.outputs[0], add.inputs[0])
                 tree.links.new(em.outputs[0], add.inputs[1])
                 extra = add
-        add_absorption(tree, out, m["absorption"], extra)
+        # An absorption ramp replaces the constant absorption (ramp_volume).
+        add_absorption(tree, out, [0.0, 0.0, 0.0] if m.get("absorption_ramp") else m["absorption"], extra)
     elif m["kind"] == "diffuse":
         d = tree.nodes.new("ShaderNodeBsdfDiffuse")
         d.inputs["Color"].default_value = list(m["colour"]) + [1.0]
@@ -119,16 +120,18 @@ def vdb_sequence(name, man):
     return vol
 
 
-def emission_volume(f, man, coll, root):
-    """A fluid's emission ramp (the renderer's emission from an attribute grid, inside the fluid)
-    as a volume object of the VDB sequence: the grid mapped over the ramp's range through a
-    Color Ramp of its colours (at most 32, Blender's limit), where the fluid's level set is
-    negative."""
-    r = f["material"].get("emission_ramp")
+def ramp_volume(f, man, coll, root, key):
+    """A fluid's emission or absorption ramp (`key`; the renderer's coefficient from an attribute
+    grid, inside the fluid) as a volume object of the VDB sequence: the grid mapped over the
+    ramp's range through a Color Ramp of its colours (at most 32, Blender's limit), where the
+    fluid's level set is negative. Emission is radiance per metre; absorption is sigma_a per
+    metre, which Cycles' Volume Absorption takes as density * (1 - colour)."""
+    r = f["material"].get(key + "_ramp")
     if not r:
         return None
-    obj = link(bpy.data.objects.new(f["name"] + "_emission", vdb_sequence(f["name"] + "_emission", man)), coll, root)
-    mat = bpy.data.materials.new(f["name"] + "_emission")
+    name = f["name"] + "_" + key
+    obj = link(bpy.data.objects.new(name, vdb_sequence(name, man)), coll, root)
+    mat = bpy.data.materials.new(name)
     tree, out = node_tree(mat)
     value = tree.nodes.new("ShaderNodeAttribute")
     value.attribute_name = r["grid"]
@@ -146,7 +149,8 @@ def emission_volume(f, man, coll, root):
         elements.new(pos)
     for e in elements:
         i = min(range(len(picks)), key=lambda i: abs(positions[i] - e.position))
-        e.color = [c / peak for c in colours[picks[i]]] + [1.0]
+        scaled = [c / peak for c in colours[picks[i]]]
+        e.color = (scaled if key == "emission" else [1 - c for c in scaled]) + [1.0]
     tree.links.new(span.outputs["Result"], ramp.inputs["Fac"])
     phi = tree.nodes.new("ShaderNodeAttribute")
     phi.attribute_name = f["grid"]
@@ -158,12 +162,16 @@ def emission_volume(f, man, coll, root):
     strength.operation = "MULTIPLY"
     strength.inputs[1].default_value = peak
     tree.links.new(inside.outputs[0], strength.inputs[0])
-    em = tree.nodes.new("ShaderNodeEmission")
-    tree.links.new(ramp.outputs["Color"], em.inputs["Color"])
-    tree.links.new(strength.outputs[0], em.inputs["Strength"])
-    tree.links.new(em.outputs[0], out.inputs["Volume"])
+    if key == "emission":
+        shader = tree.nodes.new("ShaderNodeEmission")
+        tree.links.new(strength.outputs[0], shader.inputs["Strength"])
+    else:
+        shader = tree.nodes.new("ShaderNodeVolumeAbsorption")
+        tree.links.new(strength.outputs[0], shader.inputs["Density"])
+    tree.links.new(ramp.outputs["Color"], shader.inputs["Color"])
+    tree.links.new(shader.outputs[0], out.inputs["Volume"])
     obj.data.materials.append(mat)
-    obj["multifluid_emission_grid"] = r["grid"]
+    obj["multifluid_%s_grid" % key] = r["grid"]
     return obj
 
 
@@ -386,7 +394,8 @@ def main():
                 obj.data.materials.append(mat)
         else:
             fluid_from_vdb(f, man, coll, root).data.materials.append(mat)
-        emission_volume(f, man, coll, root)
+        for key in ("emission", "absorption"):
+            ramp_volume(f, man, coll, root, key)
     for c in man["containers"]:
         container(c, coll, root)
     camera(man, coll, root)
