@@ -81,8 +81,13 @@ class Pressure final : public Effect {
     const Mat3* L = correct_ ? correction_.data() : nullptr;
     if (ref_.active()) {
       perturbation_.resize(ps.size());
+      submerged_.resize(ps.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
-        for (size_t i = r.begin(); i != r.end(); ++i) perturbation_[i] = p[i] - ref_.pressure(x[i]);
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const Real depth = ref_.depth(x[i]);  // one walk over the containers per particle
+          submerged_[i] = depth > 0;
+          perturbation_[i] = p[i] - ref_.weight * std::max(Real(0), depth);
+        }
       });
       p = perturbation_.data();
     }
@@ -110,7 +115,7 @@ class Pressure final : public Effect {
           sum += L ? L[i] * wall : wall;
         }
         ps.force[i] -= sum * V[i];
-        if (ref_.active() && ref_.depth(xi) > 0) ps.force[i] += ref_.up * (ref_.weight * V[i]);
+        if (ref_.active() && submerged_[i]) ps.force[i] += ref_.up * (ref_.weight * V[i]);
       }
     });
   }
@@ -162,6 +167,7 @@ class Pressure final : public Effect {
   HydrostaticReference ref_;
   std::vector<Mat3> correction_;
   std::vector<Real> perturbation_;
+  std::vector<uint8_t> submerged_;  // below the reference level, inside a container
 };
 
 }  // namespace
