@@ -16,9 +16,9 @@
 #include "pipeline/export_blender.h"
 #include "pipeline/farm.h"
 #include "pipeline/report.h"
+#include "pipeline/scene_stages.h"
 #include "pipeline/stages.h"
 #include "render/image.h"
-#include "pipeline/scene_stages.h"
 #include "sim/scene_budget.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -172,8 +172,7 @@ mf::SceneStages loadCheckedScene(const Options& opt, mf::SceneBudget* budgetOut 
   if (opt.maxMemoryMiB > 0) limits.maxMemoryBytes = opt.maxMemoryMiB * 1024 * 1024;
   limits.maxStepsPerFrame = opt.maxStepsPerFrame;
   limits.force = opt.force;
-  const mf::SceneBudget budget =
-      mf::checkSceneBudget(stages.scene, limits, {stages.surfacing.voxelRatio, double(stages.render.width), double(stages.render.height)});
+  const mf::SceneBudget budget = mf::checkSceneBudget(stages.scene, limits, stages.laterSizes());
   if (budgetOut) *budgetOut = budget;
   return stages;
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "render/settings.h"
+#include "sim/scene_budget.h"
 #include "sim/scene_file.h"
 #include "surfacing/settings.h"
 
@@ -16,6 +17,9 @@ struct SceneStages {
   Scene scene;                  // what the simulation reads
   SurfacingSettings surfacing;  // [surfacing]
   RenderSettings render;        // [render]
+
+  /// What the later stages add to the budget (sim/scene_budget.h).
+  LaterStageSizes laterSizes() const { return {surfacing.voxelRatio, double(render.width), double(render.height)}; }
 };
 
 /// As parseScene (sim/scene_file.h), with [surfacing] and [render] read by their stages.

@@ -10,15 +10,27 @@ namespace mf::scene_reading {
 
 namespace {
 
+/// A box's keys (min, max: required, increasing), for fluid regions and solids alike.
+void readBoxKeys(TableReader& t, Vec3& min, Vec3& max) {
+  min = t.vec3("min", {}, -1e6, 1e6, "m", true);
+  max = t.vec3("max", {}, -1e6, 1e6, "m", true);
+  t.requireIncreasing(min, max, "max", "min");
+}
+
+/// A cylinder's keys (base, radius, height: required, radius and height above 0).
+void readCylinderKeys(TableReader& t, Vec3& base, Real& radius, Real& height) {
+  base = t.vec3("base", {}, -1e6, 1e6, "m", true);
+  radius = t.number("radius", 1, 0, 1e6, "m", true, true);
+  height = t.number("height", 1, 0, 1e6, "m", true, true);
+}
+
 /// shape = "box" (min, max), "sphere" (centre, radius), "ellipsoid" (centre, radii) or
 /// "cylinder" (base, radius, height, axis = "x" | "y" | "z").
 void readRegion(TableReader& t, FluidRegion& f) {
   const std::string shape = t.text("shape", "box", {"box", "sphere", "ellipsoid", "cylinder"});
   if (shape == "box") {
     f.shape = FluidRegion::Shape::Box;
-    f.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
-    f.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-    t.requireIncreasing(f.min, f.max, "max", "min");
+    readBoxKeys(t, f.min, f.max);
   } else if (shape == "sphere") {
     f.shape = FluidRegion::Shape::Sphere;
     f.centre = t.vec3("centre", {}, -1e6, 1e6, "m", true);
@@ -29,9 +41,7 @@ void readRegion(TableReader& t, FluidRegion& f) {
     f.radii = t.vec3("radii", {1, 1, 1}, 1e-6, 1e6, "m", true);
   } else {
     f.shape = FluidRegion::Shape::Cylinder;
-    f.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
-    f.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
-    f.height = t.number("height", 1, 0, 1e6, "m", true, true);
+    readCylinderKeys(t, f.base, f.radius, f.height);
     const std::string axis = t.text("axis", "y", {"x", "y", "z"});
     f.axis = axis == "x" ? 0 : axis == "y" ? 1 : 2;
   }
@@ -40,20 +50,15 @@ void readRegion(TableReader& t, FluidRegion& f) {
 }  // namespace
 
 /// See scene_reader.h.
-/// See scene_reader.h.
 void readShape(Reader& r, TableReader& t, SolidSpec& s) {
   const std::string shape = t.text("shape", "box", {"box", "cylinder", "revolution"}, true);
   s.openTop = t.boolean("open_top", false);
   if (shape == "box") {
     s.shape = SolidSpec::Shape::Box;
-    s.min = t.vec3("min", {}, -1e6, 1e6, "m", true);
-    s.max = t.vec3("max", {}, -1e6, 1e6, "m", true);
-    t.requireIncreasing(s.min, s.max, "max", "min");
+    readBoxKeys(t, s.min, s.max);
   } else if (shape == "cylinder") {
     s.shape = SolidSpec::Shape::Cylinder;
-    s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
-    s.radius = t.number("radius", 1, 0, 1e6, "m", true, true);
-    s.height = t.number("height", 1, 0, 1e6, "m", true, true);
+    readCylinderKeys(t, s.base, s.radius, s.height);
   } else {
     s.shape = SolidSpec::Shape::Revolution;
     s.base = t.vec3("base", {}, -1e6, 1e6, "m", true);
@@ -82,6 +87,7 @@ void readShape(Reader& r, TableReader& t, SolidSpec& s) {
   }
 }
 
+/// See scene_reader.h.
 void readSolidsAndFluids(Reader& r, TableReader& top, Scene& sc) {
   const auto solidTables = top.tables("solid");
   // Every solid is tested against every particle in each step: a few containers, not a scene

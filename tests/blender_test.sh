@@ -105,32 +105,46 @@ blender -b "$work/keys/keys.blend" --factory-startup --python-exit-code 1 -P "$s
   fail "the camera-key .blend fails its checks:
 $(grep -E '^(FAIL|ok)|Error|error' "$work/check_keys.log")"
 grep -c '^ok' "$work/check_keys.log" | xargs echo "camera keys: checks passed:"
+# The ramps: a coarse run of a scene (1 cm) to END s in $work/NAME, exported to NAME.blend.
+run_and_export() {  # $1 = NAME, $2 = scene, $3 = END
+  "$bin" run "$2" --set solver.particle_spacing=0.01 --set scene.end_time="$3" --threads 2 --stages sim,surface \
+    --out "$work/$1" 2> "$work/$1.log" || fail "the $2 run failed: $(tail -5 "$work/$1.log")"
+  "$bin" export blender "$work/$1" --out "$work/$1/$1.blend" 2> "$work/export_$1.log" ||
+    fail "export of the $2 run failed: $(cat "$work/export_$1.log")"
+}
+# What both ramp checks run in Blender first: ramp_volume(name, grids) asserts a visible volume
+# object reading exactly those grids and gives its nodes and Color Ramp elements; mesh_nodes(name)
+# the fluid mesh's material nodes; cycles_pixels(w, h, spp, frame) renders to `out` in Cycles.
+ramp_prelude='
+import bpy, sys
+out = sys.argv[sys.argv.index("--") + 1]
+def ramp_volume(name, grids):
+    obj = bpy.data.objects[name]
+    assert obj.type == "VOLUME" and not obj.hide_render, "%s is not a visible volume" % name
+    nodes = obj.data.materials[0].node_tree.nodes
+    names = sorted(n.attribute_name for n in nodes if n.type == "ATTRIBUTE")
+    assert names == grids, "attributes read: %s" % names
+    return nodes, [n for n in nodes if n.type == "VALTORGB"][0].color_ramp.elements
+def mesh_nodes(name):
+    return bpy.data.objects[name].data.materials[0].node_tree.nodes
+def cycles_pixels(w, h, spp, frame):
+    s = bpy.context.scene
+    s.render.engine = "CYCLES"; s.cycles.samples = spp; s.render.resolution_x, s.render.resolution_y = w, h
+    s.render.resolution_percentage = 100; s.frame_set(frame)
+    s.render.filepath = out; bpy.ops.render.render(write_still=True)
+    return list(bpy.data.images.load(out).pixels)
+'
 # An emission ramp (boiling's flames, a blackbody over temperature): a visible volume object
 # of the VDB sequence maps the flames' temperature grid through the ramp inside their level set;
 # the flame mesh keeps no constant emission; Cycles renders it glowing orange.
-"$bin" run boiling --set solver.particle_spacing=0.01 --set scene.end_time=0.12 --threads 2 --stages sim,surface \
-  --out "$work/boil" 2> "$work/boil.log" || fail "the boiling run failed: $(tail -5 "$work/boil.log")"
-"$bin" export blender "$work/boil" --out "$work/boil/boil.blend" 2> "$work/export_boil.log" ||
-  fail "export of the boiling run failed: $(cat "$work/export_boil.log")"
-blender -b "$work/boil/boil.blend" --factory-startup --python-exit-code 1 --python-expr '
-import bpy, sys
-out = sys.argv[sys.argv.index("--") + 1]
-obj = bpy.data.objects["flame_emission"]
-assert obj.type == "VOLUME" and not obj.hide_render, "flame_emission is not a visible volume"
-nodes = obj.data.materials[0].node_tree.nodes
-names = sorted(n.attribute_name for n in nodes if n.type == "ATTRIBUTE")
-assert names == ["flame", "temperature_flame"], "attributes read: %s" % names
-ramp = [n for n in nodes if n.type == "VALTORGB"][0].color_ramp.elements
+run_and_export boil boiling 0.12
+blender -b "$work/boil/boil.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude"'
+nodes, ramp = ramp_volume("flame_emission", ["flame", "temperature_flame"])
 assert len(ramp) == 32, "%d ramp elements" % len(ramp)
 assert max(ramp[0].color[:3]) < 1e-3 and abs(max(ramp[-1].color[:3]) - 1) < 1e-6, "ramp ends %s %s" % (tuple(ramp[0].color), tuple(ramp[-1].color))
 assert ramp[-1].color[0] > ramp[-1].color[2], "the hot end is not orange"
-mesh_nodes = bpy.data.objects["flame"].data.materials[0].node_tree.nodes
-assert not [n for n in mesh_nodes if n.type == "EMISSION"], "the flame mesh still emits a constant"
-s = bpy.context.scene
-s.render.engine = "CYCLES"; s.cycles.samples = 4; s.render.resolution_x, s.render.resolution_y = 48, 27
-s.render.resolution_percentage = 100; s.frame_set(3)
-s.render.filepath = out; bpy.ops.render.render(write_still=True)
-img = bpy.data.images.load(out); px = list(img.pixels)
+assert not [n for n in mesh_nodes("flame") if n.type == "EMISSION"], "the flame mesh still emits a constant"
+px = cycles_pixels(48, 27, 4, 3)
 glow = sum(1 for i in range(0, len(px), 4) if px[i] > 0.2 and px[i] > 1.5 * px[i + 2])
 print("emission ramp: 32 elements; %d orange pixels in Cycles" % glow)
 assert glow > 0, "no pixel glows orange"
@@ -140,29 +154,15 @@ grep '^emission ramp' "$work/boil_check.log"
 # VDB sequence absorbs sigma_a from the ramp over the temperature grid inside the level set, in
 # Cycles' terms (density 18 per m, colour 1 - sigma / 18); the liquid mesh keeps no constant
 # absorption; Cycles renders the hot half red, as our renderer does.
-"$bin" run diffusion --set solver.particle_spacing=0.01 --set scene.end_time=0.2 --threads 2 --stages sim,surface \
-  --out "$work/dif" 2> "$work/dif.log" || fail "the diffusion run failed: $(tail -5 "$work/dif.log")"
-"$bin" export blender "$work/dif" --out "$work/dif/dif.blend" 2> "$work/export_dif.log" ||
-  fail "export of the diffusion run failed: $(cat "$work/export_dif.log")"
-blender -b "$work/dif/dif.blend" --factory-startup --python-exit-code 1 --python-expr '
-import bpy, sys
-out = sys.argv[sys.argv.index("--") + 1]
-obj = bpy.data.objects["liquid_absorption"]
-assert obj.type == "VOLUME" and not obj.hide_render, "liquid_absorption is not a visible volume"
-nodes = obj.data.materials[0].node_tree.nodes
-names = sorted(n.attribute_name for n in nodes if n.type == "ATTRIBUTE")
-assert names == ["liquid", "temperature_liquid"], "attributes read: %s" % names
+run_and_export dif diffusion 0.2
+blender -b "$work/dif/dif.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude"'
+nodes, ramp = ramp_volume("liquid_absorption", ["liquid", "temperature_liquid"])
 assert [n for n in nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "no Volume Absorption"
 want = [[1 - c / 18 for c in s] for s in ([4.0, 1.2, 0.8], [1.5, 8.0, 5.0], [0.6, 18.0, 12.0])]  # diffusion.toml
-got = [list(e.color[:3]) for e in [n for n in nodes if n.type == "VALTORGB"][0].color_ramp.elements]
+got = [list(e.color[:3]) for e in ramp]
 assert len(got) == 3 and all(abs(a - b) < 1e-6 for g, w in zip(got, want) for a, b in zip(g, w)), "ramp %s, expected %s" % (got, want)
-mesh_nodes = bpy.data.objects["liquid"].data.materials[0].node_tree.nodes
-assert not [n for n in mesh_nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "the liquid mesh still absorbs a constant"
-s = bpy.context.scene
-s.render.engine = "CYCLES"; s.cycles.samples = 8; s.render.resolution_x, s.render.resolution_y = 64, 36
-s.render.resolution_percentage = 100; s.frame_set(2)
-s.render.filepath = out; bpy.ops.render.render(write_still=True)
-img = bpy.data.images.load(out); px = list(img.pixels)
+assert not [n for n in mesh_nodes("liquid") if n.bl_idname == "ShaderNodeVolumeAbsorption"], "the liquid mesh still absorbs a constant"
+px = cycles_pixels(64, 36, 8, 2)
 red = sum(1 for i in range(0, len(px), 4) if px[i] > 0.05 and px[i] > 1.5 * px[i + 1])
 print("absorption ramp: 3 elements; %d red pixels in Cycles" % red)
 assert red > 0, "no pixel is tinted red"

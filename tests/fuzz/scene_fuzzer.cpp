@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     const mf::SceneStages s = mf::parseSceneStages(text, kFile);
-    mf::checkSceneBudget(s.scene, {}, {s.surfacing.voxelRatio, double(s.render.width), double(s.render.height)});
+    mf::checkSceneBudget(s.scene, {}, s.laterSizes());
   } catch (const mf::SceneError& e) {
     if (e.problems().empty()) {
       std::fprintf(stderr, "SceneError with no problem\n");
