@@ -277,8 +277,8 @@ std::string runSurfacing(const StageOptions& opt, const Scene& scene, const Surf
     ++done;
     voxels += r.activeVoxels;
     const double elapsed = seconds(Clock::now() - t0);
-    fmt::print(stderr, "[surface {:4d}/{}] {} phase(s), {} active voxels, {:.2f} s  elapsed {}  left ~{}\n", f, lastFrame,
-               settings.phases.size(), r.activeVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
+    fmt::print(stderr, "[surface {:4d}/{}] {} phase(s), {} active voxels, {} interface voxels closed, {:.2f} s  elapsed {}  left ~{}\n",
+               f, lastFrame, settings.phases.size(), r.activeVoxels, r.interfaceVoxels, seconds(Clock::now() - f0), formatDuration(elapsed),
                formatDuration(elapsed / (f - opt.firstFrame + 1) * (lastFrame - f)));
   }
   const double total = seconds(Clock::now() - t0);

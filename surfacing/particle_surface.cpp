@@ -36,8 +36,8 @@ openvdb::points::PointDataGrid::Ptr makePointGrid(const std::vector<openvdb::Vec
   return grid;
 }
 
-/// Deactivates voxels at or beyond `halfWidth` from the surface (clamped to +-halfWidth), makes
-/// that the background, and prunes: a narrow-band level set of exactly that half width.
+}  // namespace
+
 void trimBand(openvdb::FloatGrid& grid, float halfWidth) {
   openvdb::tree::LeafManager<openvdb::FloatTree>(grid.tree()).foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
     for (auto v = leaf.beginValueOn(); v; ++v)
@@ -50,6 +50,8 @@ void trimBand(openvdb::FloatGrid& grid, float halfWidth) {
   grid.setGridClass(openvdb::GRID_LEVEL_SET);
   openvdb::tools::pruneLevelSet(grid.tree());
 }
+
+namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Bodies and colours.

@@ -30,6 +30,10 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
                                    const std::vector<openvdb::Vec3f>& velocities, double particleSpacing,
                                    const SurfacingSettings& settings);
 
+/// Deactivates voxels at or beyond `halfWidth` from the surface (clamped to +-halfWidth), makes
+/// that the background, and prunes: a narrow-band level set of exactly that half width.
+void trimBand(openvdb::FloatGrid& grid, float halfWidth);
+
 /// @brief Cuts the level set where it reaches through a container wall: outside each container,
 /// within `shell` of its surface, the distance becomes max(phi, distance to the container's
 /// interior). Fluid inside a container thus ends at the wall, not a particle radius beyond it.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "attribute_grid.h"
+#include "fluid_interfaces.h"
 #include "mesh_io.h"
 #include "particle_surface.h"
 #include "periodic_images.h"
@@ -47,30 +48,56 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
     result.written.push_back(pointsFile);
   }
   const double spacing = particles.info.particleSpacing;  // the scene's, to 1e-9 (checked)
-  openvdb::GridPtrVec grids;
-  bool firstFog = true, firstVel = true;
-  for (uint16_t p : s.phases) {
-    const std::string& name = scene.phases[p].name;
-    std::vector<openvdb::Vec3d> positions;
+  // Each fluid's level set first: where two fluids touch, their films are closed together.
+  const PeriodicDomain periodic = scene.periodic();
+  struct Fluid {
+    std::vector<openvdb::Vec3d> positions;  // with the periodic images
+    std::vector<uint32_t> imageSource;      // per image, the index of its particle
+    ParticleSurface surface;
+  };
+  std::vector<Fluid> fluids(s.phases.size());
+  for (size_t f = 0; f < s.phases.size(); ++f) {
+    const uint16_t p = s.phases[f];
+    Fluid& fluid = fluids[f];
     std::vector<openvdb::Vec3f> velocities;
     for (size_t i = 0; i < particles.size(); ++i)
       if (particles.phase[i] == p) {
-        positions.emplace_back(particles.position[i].x, particles.position[i].y, particles.position[i].z);
+        fluid.positions.emplace_back(particles.position[i].x, particles.position[i].y, particles.position[i].z);
         if (s.velocity)
           velocities.emplace_back(float(particles.velocity[i].x), float(particles.velocity[i].y), float(particles.velocity[i].z));
       }
     // Periodic faces: images as far as the kernel and the filter reach (then cut flat there).
-    const PeriodicDomain periodic = scene.periodic();
     std::vector<openvdb::Vec3d> images;
-    const std::vector<uint32_t> imageSource = periodicImages(
-        positions, periodic, spacing * (s.searchRatio + s.voxelRatio * (s.filterRadius * s.filterIterations + 3)), images);
-    positions.insert(positions.end(), images.begin(), images.end());
+    fluid.imageSource = periodicImages(fluid.positions, periodic,
+                                       spacing * (s.searchRatio + s.voxelRatio * (s.filterRadius * s.filterIterations + 3)), images);
+    fluid.positions.insert(fluid.positions.end(), images.begin(), images.end());
     if (!velocities.empty()) {
-      velocities.reserve(positions.size());
-      for (uint32_t k : imageSource) velocities.push_back(velocities[k]);
+      velocities.reserve(fluid.positions.size());
+      for (uint32_t k : fluid.imageSource) velocities.push_back(velocities[k]);
     }
-    ParticleSurface surface = particlesToSurface(positions, velocities, spacing, s);
-    cutAtPeriodicFaces(*surface.levelSet, periodic);
+    fluid.surface = particlesToSurface(fluid.positions, velocities, spacing, s);
+    cutAtPeriodicFaces(*fluid.surface.levelSet, periodic);
+  }
+  {
+    std::vector<openvdb::FloatGrid::Ptr> levelSets;
+    for (const Fluid& fluid : fluids) levelSets.push_back(fluid.surface.levelSet);
+    if (fluidBandsTouch(levelSets)) {
+      std::vector<openvdb::Vec3d> all;
+      for (const Fluid& fluid : fluids) all.insert(all.end(), fluid.positions.begin(), fluid.positions.end());
+      const openvdb::FloatGrid::Ptr united = particlesToSurface(all, {}, spacing, s).levelSet;
+      cutAtPeriodicFaces(*united, periodic);
+      result.interfaceVoxels = closeFluidInterfaces(levelSets, *united, float(kInterfaceOverlapVoxels * s.voxelRatio * spacing));
+      for (size_t f = 0; f < fluids.size(); ++f) fluids[f].surface.levelSet = levelSets[f];
+    }
+  }
+
+  openvdb::GridPtrVec grids;
+  bool firstFog = true, firstVel = true;
+  for (size_t f = 0; f < s.phases.size(); ++f) {
+    const uint16_t p = s.phases[f];
+    const std::string& name = scene.phases[p].name;
+    const std::vector<openvdb::Vec3d>& positions = fluids[f].positions;
+    ParticleSurface& surface = fluids[f].surface;
     if (s.clipToSolids) clipToSolids(*surface.levelSet, scene.solids, s.searchRatio * spacing);
     surface.levelSet->setName(name);
     surface.levelSet->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));
@@ -93,8 +120,8 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
       std::vector<float> values;
       for (size_t i = 0; i < particles.size(); ++i)
         if (particles.phase[i] == p) values.push_back(found->second[i]);
-      values.reserve(values.size() + imageSource.size());
-      for (uint32_t k : imageSource) values.push_back(values[k]);
+      values.reserve(values.size() + fluids[f].imageSource.size());
+      for (uint32_t k : fluids[f].imageSource) values.push_back(values[k]);
       auto grid = attributeGrid(positions, values, 2 * spacing, surface.levelSet->transform());
       grid->setName(attr + "_" + name);
       grid->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));

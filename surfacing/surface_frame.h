@@ -14,6 +14,7 @@ struct SurfaceFrameResult {
   bool skipped = false;               // output already complete
   std::vector<std::string> written;   // files written
   size_t activeVoxels = 0;            // over all level sets
+  size_t interfaceVoxels = 0;         // voxels a fluid gained in gaps to another (fluid_interfaces.h)
 };
 
 /// Reads `particleFile` (refused, naming it, if damaged or written by a scene with other phases
