@@ -122,6 +122,22 @@ struct PathTracer::Impl {
     if (hit.kind != Hit::None) hit.p = o + d * hit.t;
   }
 
+  /// Where a ray goes on from (along d) after the boundary `h`: on the surface, skipping it. A
+  /// surface within epsilon of the one the ray left (coincident meshes: two overlapping fluids
+  /// pushed to one plane inside a glass wall) is taken as crossed with it, and the ray goes on
+  /// from an epsilon beyond both: skipping only the last surface, it would meet the other again
+  /// at t = 0, without end.
+  MF_INLINE void goOnPast(const Hit& h, const Vec3& d, Vec3& o, int& leaving, unsigned& leavingPrim) const {
+    if (leaving >= 0 && h.t < epsilon) {
+      o = h.p + d * epsilon;
+      leaving = -1;
+    } else {
+      o = h.p;
+      leaving = h.material;
+      leavingPrim = h.prim;
+    }
+  }
+
   /// Transmittance towards a light sample through clear volumes (a transparent-shadow
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
@@ -151,10 +167,9 @@ struct PathTracer::Impl {
       else stack.remove(h.material);
       crossed = true;
       if (maxComponent(T) < 1e-4) return {};
-      o = h.p;
-      leaving = h.material;
-      leavingPrim = h.prim;
-      dist -= h.t;
+      const Vec3 from = o;
+      goOnPast(h, d, o, leaving, leavingPrim);
+      dist -= length(o - from);
       if (dist <= 0) return T;
     }
     return T;
@@ -369,9 +384,7 @@ struct PathTracer::Impl {
         // Inside a volume of higher priority: this boundary does not exist there.
         if (entering) stack.push(h.material);
         else stack.remove(h.material);
-        o = h.p;
-        leaving = h.material;
-        leavingPrim = h.prim;
+        goOnPast(h, d, o, leaving, leavingPrim);
         if (++passes > 64) break;
         continue;  // the segment goes on from `start`
       }
@@ -421,10 +434,9 @@ struct PathTracer::Impl {
       } else {
         stack = after;
       }
-      newSegment(h.p);
-      leaving = h.material;
-      leavingPrim = h.prim;
       d = next;
+      newSegment(h.p);  // absorption counts from the boundary
+      goOnPast(h, d, o, leaving, leavingPrim);
       ++bounces;
       if (!russianRoulette(throughput, smp)) break;
     }

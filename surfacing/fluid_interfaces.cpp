@@ -93,7 +93,10 @@ size_t closeFluidInterfaces(std::vector<openvdb::FloatGrid::Ptr>& levelSets, con
         // unnormalised half difference would carry the overlap far into the other's side.
         const openvdb::Vec3f slope = gradient(own, ijk) - gradient(other[which], ijk);
         const float split = (phi - nearest) / std::max(slope.length() / voxel, kFlattestSplit);
-        const float grown = std::max(all.getValue(ijk), split - overlap);
+        // The overlap tapers to nothing at the united surface: two fluids that both reached it
+        // there would share its zero crossing, and coincident surfaces trap a renderer's rays.
+        const float united = all.getValue(ijk);
+        const float grown = std::max(united, split - std::min(overlap, std::max(0.0f, -united)));
         if (grown < phi) {
           count += phi > 0 && grown <= 0;
           v.setValue(grown);
