@@ -29,11 +29,12 @@ bool fluidBandsTouch(const std::vector<openvdb::FloatGrid::Ptr>& levelSets);
 /// @param overlap    how far (world units) each fluid reaches past the midway surface
 /// @return how many voxels changed sign, over all fluids
 /// @details On each voxel outside fluid a and within another fluid's band, with b the nearest
-/// other fluid, the distance becomes min(phi_a, max(phi_united, d - overlap)), d = (phi_a -
-/// phi_b) / |grad phi_a - grad phi_b| the signed distance to the midway surface phi_a = phi_b
-/// ((phi_a - phi_b) / 2 across a gap the two surfaces face). A fluid thus only grows, only
-/// inside the united level set, only near another fluid, and only to the middle of a gap plus
-/// `overlap`. Its band is widened by a voxel first, so that it still reaches three voxels
+/// other fluid, the distance becomes min(phi_a, max(phi_united, d - o)), d = (phi_a - phi_b) /
+/// |grad phi_a - grad phi_b| the signed distance to the midway surface phi_a = phi_b ((phi_a -
+/// phi_b) / 2 across a gap the two surfaces face), o = min(overlap, -phi_united): the overlap
+/// tapers to nothing at the united surface, where two fluids would otherwise share its zero
+/// crossing. A fluid thus only grows, only inside the united level set, only near another
+/// fluid, and only to the middle of a gap plus `overlap`. Its band is widened by a voxel first, so that it still reaches three voxels
 /// beyond a surface moved by up to one. The result depends only on the inputs, not on their
 /// order or the thread count.
 size_t closeFluidInterfaces(std::vector<openvdb::FloatGrid::Ptr>& levelSets, const openvdb::FloatGrid& united,
