@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <random>
@@ -164,4 +165,19 @@ TEST(FluidInterfaces, ABubbleInsideWaterKeepsItsSurface) {
   std::printf("bubble of %zu particles: %zu inside voxels before, %zu after\n", air.size(), before, after);
   EXPECT_GE(after, before);
   EXPECT_LT(double(after), 2.0 * double(before));  // half a voxel more on a radius of about 3.5 voxels
+}
+
+TEST(FluidInterfaces, SameBitsOnAnyThreadCount) {
+  auto closed = [](int threads) {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, threads);
+    Layers l = layers(1.3);
+    mf::surfacing::closeFluidInterfaces(l.levelSets, *l.united, float(0.5 * l.voxel));
+    return l.levelSets;
+  };
+  const auto one = closed(1), three = closed(3);
+  for (size_t f = 0; f < 2; ++f) {
+    ASSERT_EQ(one[f]->activeVoxelCount(), three[f]->activeVoxelCount());
+    auto acc = three[f]->getConstAccessor();
+    for (auto it = one[f]->cbeginValueOn(); it; ++it) ASSERT_EQ(*it, acc.getValue(it.getCoord())) << it.getCoord();
+  }
 }
