@@ -122,13 +122,12 @@ struct PathTracer::Impl {
     if (hit.kind != Hit::None) hit.p = o + d * hit.t;
   }
 
-  /// Where a ray goes on from (along d) after the boundary `h`: on the surface, skipping it. A
-  /// surface within epsilon of the one the ray left (coincident meshes: two overlapping fluids
-  /// pushed to one plane inside a glass wall) is taken as crossed with it, and the ray goes on
-  /// from an epsilon beyond both: skipping only the last surface, it would meet the other again
-  /// at t = 0, without end.
-  MF_INLINE void goOnPast(const Hit& h, const Vec3& d, Vec3& o, int& leaving, unsigned& leavingPrim) const {
-    if (leaving >= 0 && h.t < epsilon) {
+  /// Where a ray goes on from (along d) after the boundary `h`: on the surface, skipping it.
+  /// After a group of coincident faces (`group`, see crossCoincident), or a surface met within
+  /// epsilon of the one the ray left, from an epsilon beyond them: skipping only the last
+  /// surface, the ray would meet the other again at t = 0, without end.
+  MF_INLINE void goOnPast(const Hit& h, const Vec3& d, bool group, Vec3& o, int& leaving, unsigned& leavingPrim) const {
+    if (group || (leaving >= 0 && h.t < epsilon)) {
       o = h.p + d * epsilon;
       leaving = -1;
     } else {
@@ -136,6 +135,24 @@ struct PathTracer::Impl {
       leaving = h.material;
       leavingPrim = h.prim;
     }
+  }
+
+  /// Coincident faces are one interface: the faces of other volumes within epsilon of the hit
+  /// `h` (water clipped to a glass wall's inner face, two volumes with the same surface) enter
+  /// or leave `after` too, so that the ray goes from the medium before all of them to the medium
+  /// after all of them, whichever Embree reported first. Returns how many faces were added.
+  MF_INLINE int crossCoincident(const Hit& h, const Vec3& d, MediumStack& after, RayLog& log) const {
+    if (!geometry.nearAnother(h.material, h.prim)) return 0;
+    int group[4] = {h.material};
+    int members = 1;
+    Hit twin;
+    twin.time = h.time;
+    while (members < 4 && geometry.coincident(h.p, d, group, members, log, twin)) {
+      if (dot(d, twin.ng) < 0) after.push(twin.material);
+      else after.remove(twin.material);
+      group[members++] = twin.material;
+    }
+    return members - 1;
   }
 
   /// Transmittance towards a light sample through clear volumes (a transparent-shadow
@@ -165,10 +182,11 @@ struct PathTracer::Impl {
       if (m.kind == MaterialSpec::Kind::Diffuse || m.kind == MaterialSpec::Kind::Emitter) return {};
       if (dot(d, h.ng) < 0) stack.push(h.material);
       else stack.remove(h.material);
+      const bool group = crossCoincident(h, d, stack, log) > 0;
       crossed = true;
       if (maxComponent(T) < 1e-4) return {};
       const Vec3 from = o;
-      goOnPast(h, d, o, leaving, leavingPrim);
+      goOnPast(h, d, group, o, leaving, leavingPrim);
       dist -= length(o - from);
       if (dist <= 0) return T;
     }
@@ -377,23 +395,25 @@ struct PathTracer::Impl {
       // A dielectric boundary (clear liquid, glass, bubble, or a medium's surface).
       const bool entering = dot(d, h.ng) < 0;
       const int current = medium;  // the stack has not changed since
-      // Leaving a volume is real when it is the medium, or when the ray was never known to be in it.
-      const bool real = entering ? m->priority >= (current < 0 ? -1 : materials[current].priority)
-                                 : current == h.material || !stack.contains(h.material);
-      if (!real) {
-        // Inside a volume of higher priority: this boundary does not exist there.
-        if (entering) stack.push(h.material);
-        else stack.remove(h.material);
-        goOnPast(h, d, o, leaving, leavingPrim);
-        if (++passes > 64) break;
-        continue;  // the segment goes on from `start`
-      }
       MediumStack after = stack;
       if (entering) after.push(h.material);
       else after.remove(h.material);
-      const int outsideMedium = entering ? current : after.top(materials);
-      const Real n1 = entering ? (current >= 0 ? materials[current].ior : 1.0) : m->ior;
-      const Real n2 = entering ? m->ior : (outsideMedium >= 0 ? materials[outsideMedium].ior : 1.0);
+      const bool group = crossCoincident(h, d, after, log) > 0;
+      const int beyond = after.top(materials);  // the medium past the interface
+      // Leaving a volume is real when it is the medium, or when the ray was never known to be in
+      // it; a group of coincident faces, when the medium changes across it.
+      const bool real = (entering ? m->priority >= (current < 0 ? -1 : materials[current].priority)
+                                  : current == h.material || !stack.contains(h.material)) ||
+                        (group && beyond != current);
+      if (!real) {
+        // Inside a volume of higher priority: this boundary does not exist there.
+        stack = after;
+        goOnPast(h, d, group, o, leaving, leavingPrim);
+        if (++passes > 64) break;
+        continue;  // the segment goes on from `start`
+      }
+      const Real n1 = entering || current == h.material ? (current >= 0 ? materials[current].ior : 1.0) : m->ior;
+      const Real n2 = entering && !group ? m->ior : (beyond >= 0 ? materials[beyond].ior : 1.0);
       const Vec3 incidentSide = entering ? h.ng : -h.ng;  // geometric normal on the ray's side
       Vec3 n = entering ? h.ns : -h.ns;
       Real cosi = -dot(d, n);
@@ -436,7 +456,7 @@ struct PathTracer::Impl {
       }
       d = next;
       newSegment(h.p);  // absorption counts from the boundary
-      goOnPast(h, d, o, leaving, leavingPrim);
+      goOnPast(h, d, group, o, leaving, leavingPrim);
       ++bounces;
       if (!russianRoulette(throughput, smp)) break;
     }

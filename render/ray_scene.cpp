@@ -27,6 +27,16 @@ void skipFilter(const RTCFilterFunctionNArguments* args) {
       args->valid[i] = 0;
 }
 
+void skipSetFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* c = reinterpret_cast<const SkipSetContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (!args->valid[i]) continue;
+    const unsigned g = RTCHitN_geomID(args->hit, args->N, i);
+    for (int k = 0; k < c->count; ++k)
+      if (c->geometries[k] == g) args->valid[i] = 0;
+  }
+}
+
 RayScene::RayScene(const std::vector<Surface>& surfaces, Real shutterSeconds) {
   device_ = rtcNewDevice(nullptr);
   if (!device_) throw std::runtime_error("Embree: cannot create a device");

@@ -37,6 +37,15 @@ struct SkipContext {
 
 void skipFilter(const RTCFilterFunctionNArguments* args);
 
+/// For the search of coincident faces: hits on the geometries listed are ignored.
+struct SkipSetContext {
+  RTCIntersectContext context;
+  unsigned geometries[4];
+  int count;
+};
+
+void skipSetFilter(const RTCFilterFunctionNArguments* args);
+
 /// An Embree ray, no hit yet.
 inline RTCRayHit makeRay(float ox, float oy, float oz, float dx, float dy, float dz, float tnear, float tfar) {
   RTCRayHit rh;
@@ -69,6 +78,35 @@ class RayScene {
   RayScene& operator=(const RayScene&) = delete;
 
   RTCScene scene() const { return scene_; }
+
+  /// Whether another geometry comes within two epsilons of triangle `prim` of geometry `g`:
+  /// only there can a face coincide with it.
+  bool nearAnother(int g, unsigned prim) const { return nearOther_[size_t(g)][prim] != 0; }
+
+  /// A face of a geometry not among `skip` (count of them) within an epsilon either side of p,
+  /// along the line p + t d: a face coincident with the one at p, which float rounding may put
+  /// just behind p. Fills hit.material, prim, ng (unit) and t (from p); false when none.
+  MF_INLINE bool coincident(const Vec3& p, const Vec3& d, const int* skip, int count, RayLog& log, Hit& hit) const {
+    SkipSetContext c;
+    rtcInitIntersectContext(&c.context);
+    c.context.filter = skipSetFilter;
+    c.count = std::min(count, 4);
+    for (int k = 0; k < c.count; ++k) c.geometries[k] = unsigned(skip[k]);
+    const Vec3 from = p - d * epsilon_;
+    RTCRayHit rh = makeRay(float(from.x), float(from.y), float(from.z), float(d.x), float(d.y), float(d.z), 0,
+                           float(2 * epsilon_));
+    rh.ray.time = hit.time;
+    rtcIntersect1(scene_, &c.context, &rh);
+    ++log.rays;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.kind = Hit::Mesh;
+    hit.t = rh.ray.tfar - epsilon_;
+    hit.material = int(rh.hit.geomID);
+    hit.prim = rh.hit.primID;
+    hit.ng = unit(Vec3{rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z});
+    hit.p = p;
+    return true;
+  }
   Real epsilon() const { return epsilon_; }  // ray offset, m
 
   /// The nearest triangle along o + t d, t in (0, tfar): hit.kind Mesh (t, material, prim, ng,
