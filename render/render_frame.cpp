@@ -102,20 +102,15 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   const auto t0 = std::chrono::steady_clock::now();
   openvdb::initialize();
   std::vector<Surface> surfaces;
-  int fluidIndex = 0;
   for (FluidGrids& f : readLevelSets(surfaceFile, scene, settings)) {
     openvdb::FloatGrid& grid = *f.levelSet;
     // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
     // voxel size), which would render as films of air; at most 3/4 of the wall's thickness, so
     // that the liquid stays inside the glass that hides it (a coarse voxel reached through the
     // lamp's 6 mm wall by 17 mm, and the glasses' 4 mm by 1 mm, as streaks of water outside).
-    // Each further fluid stops 5 % shorter: two fluids that meet at the wall (their level sets
-    // overlap there, surfacing/fluid_interfaces.h) would otherwise end in one plane inside it,
-    // and a ray meets coincident surfaces in an arbitrary order.
-    const double stagger = 1.0 - 0.05 * std::min(fluidIndex++, 10);
     std::vector<double> depths;
     for (const MaterialSpec& m : settings.solidMaterials)
-      depths.push_back(m.visible ? stagger * std::min(2.0 * grid.voxelSize()[0], 0.75 * m.thickness) : 0.0);
+      depths.push_back(m.visible ? std::min(2.0 * grid.voxelSize()[0], 0.75 * m.thickness) : 0.0);
     wetContainerWalls(grid, scene.solids, depths);
     RenderMesh mesh = levelSetMesh(grid);
     if (mesh.size() == 0) continue;
