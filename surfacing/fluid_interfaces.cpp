@@ -38,7 +38,7 @@ openvdb::Vec3f gradient(const openvdb::FloatGrid::ConstAccessor& acc, const open
 }
 
 // The smallest |grad phi_a - grad phi_b| the split divides by: where the two surfaces face the
-// same way, the overlap moves the midway surface to where phi_a - phi_b is a fifth of it.
+// same way, fluid a claims only where phi_a - phi_b is below a fifth of the overlap.
 constexpr float kFlattestSplit = 0.2f;
 
 }  // namespace

@@ -34,9 +34,9 @@ bool fluidBandsTouch(const std::vector<openvdb::FloatGrid::Ptr>& levelSets);
 /// phi_b) / 2 across a gap the two surfaces face), o = min(overlap, -phi_united): the overlap
 /// tapers to nothing at the united surface, where two fluids would otherwise share its zero
 /// crossing. A fluid thus only grows, only inside the united level set, only near another
-/// fluid, and only to the middle of a gap plus `overlap`. Its band is widened by a voxel first, so that it still reaches three voxels
-/// beyond a surface moved by up to one. The result depends only on the inputs, not on their
-/// order or the thread count.
+/// fluid, and only to the middle of a gap plus `overlap`. Its band is widened by a voxel first,
+/// so that it still reaches three voxels beyond a surface moved by up to one. The result
+/// depends only on the inputs, not on their order or the thread count.
 size_t closeFluidInterfaces(std::vector<openvdb::FloatGrid::Ptr>& levelSets, const openvdb::FloatGrid& united,
                             float overlap);
 
