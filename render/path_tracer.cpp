@@ -412,7 +412,8 @@ struct PathTracer::Impl {
         if (++passes > 64) break;
         continue;  // the segment goes on from `start`
       }
-      const Real n1 = entering || current == h.material ? (current >= 0 ? materials[current].ior : 1.0) : m->ior;
+      // From the medium (the volume left, where the ray was never known to be in it).
+      const Real n1 = entering || group || current == h.material ? (current >= 0 ? materials[current].ior : 1.0) : m->ior;
       const Real n2 = entering && !group ? m->ior : (beyond >= 0 ? materials[beyond].ior : 1.0);
       const Vec3 incidentSide = entering ? h.ng : -h.ng;  // geometric normal on the ray's side
       Vec3 n = entering ? h.ns : -h.ns;
