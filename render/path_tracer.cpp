@@ -90,12 +90,11 @@ struct PathTracer::Impl {
     if (hit.kind != Hit::None) hit.p = o + d * hit.t;
   }
 
-  /// Where a ray goes on from (along d) after the boundary `h`: on the surface, skipping it.
-  /// After a group of coincident faces (`group`, see crossCoincident), or a surface met within
-  /// epsilon of the one the ray left, from an epsilon beyond them: skipping only the last
-  /// surface, the ray would meet the other again at t = 0, without end.
+  /// Where a ray goes on from (along d) after the boundary `h`: on the surface, skipping it;
+  /// after a group of coincident faces (`group`, see crossCoincident), from an epsilon beyond
+  /// them: skipping only the last face, the ray would meet the others again at t = 0, without end.
   MF_INLINE void goOnPast(const Hit& h, const Vec3& d, bool group, Vec3& o, int& leaving, unsigned& leavingPrim) const {
-    if (group || (leaving >= 0 && h.t < epsilon)) {
+    if (group) {
       o = h.p + d * epsilon;
       leaving = -1;
     } else {
