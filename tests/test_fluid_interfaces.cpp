@@ -7,8 +7,8 @@
 #include <tbb/global_control.h>
 
 #include <cmath>
-#include <random>
 
+#include "lattice_util.h"
 #include "surfacing/fluid_interfaces.h"
 #include "surfacing/particle_surface.h"
 
@@ -18,16 +18,8 @@ namespace {
 
 constexpr double kSpacing = 0.01;
 
-// A jittered lattice filling [lo, hi).
-std::vector<Vec3d> block(const Vec3d& lo, const Vec3d& hi, uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-0.2 * kSpacing, 0.2 * kSpacing);
-  std::vector<Vec3d> out;
-  for (double z = lo.z() + 0.5 * kSpacing; z < hi.z(); z += kSpacing)
-    for (double y = lo.y() + 0.5 * kSpacing; y < hi.y(); y += kSpacing)
-      for (double x = lo.x() + 0.5 * kSpacing; x < hi.x(); x += kSpacing) out.push_back(Vec3d(x, y, z) + Vec3d(u(rng), u(rng), u(rng)));
-  return out;
-}
+// A lattice filling [lo, hi), jittered by 0.2 spacings.
+std::vector<Vec3d> block(const Vec3d& lo, const Vec3d& hi, uint32_t seed) { return mf::test::lattice(lo, hi, kSpacing, 0.2, seed); }
 
 struct Layers {
   std::vector<openvdb::FloatGrid::Ptr> levelSets;  // lower, upper

@@ -16,6 +16,7 @@
 #include <fstream>
 #include <random>
 
+#include "lattice_util.h"
 #include "sim/particle_io.h"
 #include "pipeline/scene_stages.h"
 #include "surfacing/bodies.h"
@@ -32,17 +33,7 @@ constexpr double kSpacing = 0.01;
 
 std::vector<Vec3d> lattice(const Vec3d& lo, const Vec3d& hi, double jitter, uint32_t seed,
                            const std::function<bool(const Vec3d&)>& inside = {}) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-jitter * kSpacing, jitter * kSpacing);
-  std::vector<Vec3d> out;
-  for (double z = lo.z() + 0.5 * kSpacing; z < hi.z(); z += kSpacing)
-    for (double y = lo.y() + 0.5 * kSpacing; y < hi.y(); y += kSpacing)
-      for (double x = lo.x() + 0.5 * kSpacing; x < hi.x(); x += kSpacing) {
-        const Vec3d p(x, y, z);
-        if (inside && !inside(p)) continue;
-        out.push_back(p + Vec3d(u(rng), u(rng), u(rng)));
-      }
-  return out;
+  return mf::test::lattice(lo, hi, kSpacing, jitter, seed, inside);
 }
 
 // Mean and standard deviation of the distance of the zero crossing (mesh vertices) from c.
