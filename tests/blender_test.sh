@@ -112,6 +112,14 @@ run_and_export() {  # $1 = NAME, $2 = scene, $3 = END
   "$bin" export blender "$work/$1" --out "$work/$1/$1.blend" 2> "$work/export_$1.log" ||
     fail "export of the $2 run failed: $(cat "$work/export_$1.log")"
 }
+# Runs $ramp_prelude (below) then the checks $3 in Blender on $work/NAME/NAME.blend ($1) and
+# prints their line starting with $2 (what is checked, also named if it fails).
+check_ramp() {  # $1 = NAME, $2 = what, $3 = Python
+  blender -b "$work/$1/$1.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude$3" \
+    -- "$work/$1_render.png" > "$work/$1_check.log" 2>&1 ||
+    fail "the $2 in Blender: $(grep -E 'Error|assert' "$work/$1_check.log" | tail -5)"
+  grep "^$2" "$work/$1_check.log"
+}
 # What both ramp checks run in Blender first: ramp_volume(name, grids) asserts a visible volume
 # object reading exactly those grids and gives its nodes and Color Ramp elements; mesh_nodes(name)
 # the fluid mesh's material nodes; cycles_pixels(w, h, spp, frame) renders to `out` in Cycles.
@@ -138,7 +146,7 @@ def cycles_pixels(w, h, spp, frame):
 # of the VDB sequence maps the flames' temperature grid through the ramp inside their level set;
 # the flame mesh keeps no constant emission; Cycles renders it glowing orange.
 run_and_export boil boiling 0.12
-blender -b "$work/boil/boil.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude"'
+check_ramp boil "emission ramp" '
 nodes, ramp = ramp_volume("flame_emission", ["flame", "temperature_flame"])
 assert len(ramp) == 32, "%d ramp elements" % len(ramp)
 assert max(ramp[0].color[:3]) < 1e-3 and abs(max(ramp[-1].color[:3]) - 1) < 1e-6, "ramp ends %s %s" % (tuple(ramp[0].color), tuple(ramp[-1].color))
@@ -148,14 +156,13 @@ px = cycles_pixels(48, 27, 4, 3)
 glow = sum(1 for i in range(0, len(px), 4) if px[i] > 0.2 and px[i] > 1.5 * px[i + 2])
 print("emission ramp: 32 elements; %d orange pixels in Cycles" % glow)
 assert glow > 0, "no pixel glows orange"
-' -- "$work/boil_render.png" > "$work/boil_check.log" 2>&1 || fail "the emission ramp in Blender: $(grep -E 'Error|assert' "$work/boil_check.log" | tail -5)"
-grep '^emission ramp' "$work/boil_check.log"
+'
 # An absorption ramp (diffusion's liquid, tinted by temperature): a visible volume object of the
 # VDB sequence absorbs sigma_a from the ramp over the temperature grid inside the level set, in
 # Cycles' terms (density 18 per m, colour 1 - sigma / 18); the liquid mesh keeps no constant
 # absorption; Cycles renders the hot half red, as our renderer does.
 run_and_export dif diffusion 0.2
-blender -b "$work/dif/dif.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude"'
+check_ramp dif "absorption ramp" '
 nodes, ramp = ramp_volume("liquid_absorption", ["liquid", "temperature_liquid"])
 assert [n for n in nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "no Volume Absorption"
 want = [[1 - c / 18 for c in s] for s in ([4.0, 1.2, 0.8], [1.5, 8.0, 5.0], [0.6, 18.0, 12.0])]  # diffusion.toml
@@ -166,8 +173,7 @@ px = cycles_pixels(64, 36, 8, 2)
 red = sum(1 for i in range(0, len(px), 4) if px[i] > 0.05 and px[i] > 1.5 * px[i + 1])
 print("absorption ramp: 3 elements; %d red pixels in Cycles" % red)
 assert red > 0, "no pixel is tinted red"
-' -- "$work/dif_render.png" > "$work/dif_check.log" 2>&1 || fail "the absorption ramp in Blender: $(grep -E 'Error|assert' "$work/dif_check.log" | tail -5)"
-grep '^absorption ramp' "$work/dif_check.log"
+'
 # The PLY point cloud in Blender's PLY importer: every particle a vertex; which properties it keeps.
 ply=$work/run/points/points.0002.ply
 n=$(head -c 2000 "$ply" | grep -a -m1 '^element vertex' | awk '{print $3}')
