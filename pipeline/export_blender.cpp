@@ -129,6 +129,11 @@ int exportBlender(const BlenderExportOptions& opt) {
                                            opt.runDir, opt.runDir, opt.runDir));
   }
 
+  if (rs.shutter > 0 && opt.meshes != "ply")
+    fmt::print(stderr,
+               "export: note: render.shutter is {}, but Blender blurs only meshes that carry velocities: export with --meshes ply "
+               "for motion blur (the level sets' Volume to Mesh has none)\n",
+               rs.shutter);
   const fs::path out = opt.out.empty() ? dir / (scene.name + ".blend") : fs::absolute(opt.out).lexically_normal();
   if (out.extension() != ".blend") throw std::runtime_error("export: --out " + out.string() + " must end in .blend");
   fs::create_directories(out.parent_path());
@@ -161,6 +166,7 @@ int exportBlender(const BlenderExportOptions& opt) {
       "{{\"format\": \"multifluid blender manifest 1\",\n"
       " \"scene\": {}, \"run_folder\": {}, \"up_axis\": \"Y\",\n"
       " \"fps\": {}, \"frame_start\": {}, \"frame_end\": {}, \"surface_first_file\": {}, \"voxel_size\": {},\n"
+      " \"shutter\": {},\n"
       " \"camera\": {{\"position\": {}, \"look_at\": {}, \"fov_vertical_degrees\": {}, \"framing\": {}}},\n"
       " \"camera_frames\": [{}],\n"
       " \"image\": {{\"width\": {}, \"height\": {}, \"samples\": {}, \"max_depth\": {}}},\n"
@@ -171,7 +177,7 @@ int exportBlender(const BlenderExportOptions& opt) {
       " \"fluids\": [{}],\n"
       " \"containers\": [{}]}}\n",
       str(scene.name), str(dir.string()), num(scene.frameRate), first, last, str(surfaceFile(first).string()),
-      num(stages.surfacing.voxelRatio * scene.solver.particleSpacing), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
+      num(stages.surfacing.voxelRatio * scene.solver.particleSpacing), num(rs.shutter), vec(rs.cameraPosition), vec(rs.lookAt), num(rs.fov),
       str(rs.cameraFraming), cameraFrames, rs.width, rs.height, rs.samples, rs.maxDepth,
       vec(rs.lightPosition), num(rs.lightRadius), vec(rs.lightEmission), vec(rs.skyZenith), vec(rs.skyHorizon), vec(rs.skyGround),
       rs.floor ? "true" : "false", num(rs.floorHeight), num(rs.checkerSize), str(opt.meshes), fluids, containers);

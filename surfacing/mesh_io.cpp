@@ -6,6 +6,7 @@
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <sstream>
+#include <stdexcept>
 
 #include "sim/file_util.h"
 
@@ -38,12 +39,26 @@ TriangleMesh levelSetToMesh(const openvdb::FloatGrid& grid) {
   return mesh;
 }
 
+void sampleVertexVelocities(TriangleMesh& mesh, const openvdb::Vec3SGrid& velocity) {
+  openvdb::tools::GridSampler<openvdb::Vec3SGrid, openvdb::tools::BoxSampler> sampler(velocity);
+  mesh.velocities.clear();
+  mesh.velocities.reserve(mesh.vertices.size());
+  for (const auto& p : mesh.vertices) mesh.velocities.push_back(sampler.wsSample(openvdb::Vec3d(p)));
+}
+
 void writePly(const std::string& path, const TriangleMesh& mesh) {
+  const bool moving = !mesh.velocities.empty();
+  if (moving && mesh.velocities.size() != mesh.vertices.size())
+    throw std::logic_error(fmt::format("{}: {} velocities for {} vertices", path, mesh.velocities.size(), mesh.vertices.size()));
   std::ostringstream os(std::ios::binary);
   os << "ply\nformat binary_little_endian 1.0\ncomment multifluid level set mesh\n"
      << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
+     << (moving ? "property float vx\nproperty float vy\nproperty float vz\n" : "")
      << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& v : mesh.vertices) os.write(reinterpret_cast<const char*>(v.asPointer()), 12);
+  for (size_t k = 0; k < mesh.vertices.size(); ++k) {
+    os.write(reinterpret_cast<const char*>(mesh.vertices[k].asPointer()), 12);
+    if (moving) os.write(reinterpret_cast<const char*>(mesh.velocities[k].asPointer()), 12);
+  }
   for (const auto& t : mesh.triangles) {
     const unsigned char three = 3;
     os.write(reinterpret_cast<const char*>(&three), 1);

@@ -137,7 +137,8 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
     }
     if (s.meshPly || s.meshObj) {
       fs::create_directories(meshDir);
-      const TriangleMesh mesh = levelSetToMesh(*surface.levelSet);
+      TriangleMesh mesh = levelSetToMesh(*surface.levelSet);
+      if (s.meshPly && surface.velocity) sampleVertexVelocities(mesh, *surface.velocity);
       if (s.meshPly) {
         writePly(meshPath(name, "ply"), mesh);
         result.written.push_back(meshPath(name, "ply"));

@@ -7,6 +7,7 @@
 import json
 import math
 import os
+import struct
 import sys
 
 import bpy
@@ -198,8 +199,42 @@ def fluid_from_vdb(f, man, coll, root):
     return obj
 
 
+def ply_velocities(path, count):
+    """The vertices' vx, vy, vz of one of surfacing's binary PLY meshes (mesh_io.cpp), or None.
+    Blender's PLY importer drops properties it does not know."""
+    with open(path, "rb") as fh:
+        header = []
+        while True:
+            line = fh.readline()
+            if not line:
+                raise RuntimeError(path + ": no end_header")
+            line = line.decode("ascii").strip()
+            if line == "end_header":
+                break
+            header.append(line)
+        props, in_vertex = [], False
+        for line in header:
+            words = line.split()
+            if words[0] == "element":
+                in_vertex = words[1] == "vertex"
+                if in_vertex and int(words[2]) != count:
+                    raise RuntimeError("%s: %s vertices, Blender imported %d" % (path, words[2], count))
+            elif words[0] == "property" and in_vertex:
+                if words[1] != "float":
+                    raise RuntimeError(path + ": vertex property " + line + " is not float")
+                props.append(words[2])
+        if props[3:6] != ["vx", "vy", "vz"]:
+            return None
+        data = fh.read(4 * len(props) * count)
+    values = struct.unpack("<%df" % (len(props) * count), data)
+    n = len(props)
+    return [values[k * n + 3 + c] for k in range(count) for c in range(3)]
+
+
 def fluid_from_ply(f, man, coll, root):
-    """One imported PLY mesh per frame, each visible on its frame only (keyframed visibility)."""
+    """One imported PLY mesh per frame, each visible on its frame only (keyframed visibility).
+    Each vertex's velocity becomes the mesh's "velocity" attribute: Cycles blurs a mesh whose
+    topology changes from frame to frame by it (in the object's space, the scene's m/s)."""
     sub = bpy.data.collections.new(f["name"] + "_frames")
     coll.children.link(sub)
     objs = []
@@ -212,6 +247,9 @@ def fluid_from_ply(f, man, coll, root):
         sub.objects.link(obj)
         obj.name = "%s.%04d" % (f["name"], frame)
         obj.parent = root
+        vel = ply_velocities(path, len(obj.data.vertices))
+        if vel is not None:
+            obj.data.attributes.new("velocity", "FLOAT_VECTOR", "POINT").data.foreach_set("vector", vel)
         for fr, hidden in ((frame - 1, True), (frame, False), (frame + 1, True)):
             obj.hide_render = obj.hide_viewport = hidden
             obj.keyframe_insert("hide_render", frame=fr)
@@ -376,6 +414,11 @@ def main():
     scene.render.fps = max(1, round(rate))
     scene.render.fps_base = scene.render.fps / rate
     scene.frame_start, scene.frame_end = man["frame_start"], man["frame_end"]
+    # render.shutter: open for that fraction of a frame, centred on it, as the renderer's.
+    scene.render.use_motion_blur = man["shutter"] > 0
+    if man["shutter"] > 0:
+        scene.render.motion_blur_shutter = man["shutter"]
+        scene.cycles.motion_blur_position = "CENTER"
     scene.frame_current = man["frame_start"]
     scene.unit_settings.system = "METRIC"
 
