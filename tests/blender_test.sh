@@ -112,18 +112,18 @@ run_and_export() {  # $1 = NAME, $2 = scene, $3 = END
   "$bin" export blender "$work/$1" --out "$work/$1/$1.blend" 2> "$work/export_$1.log" ||
     fail "export of the $2 run failed: $(cat "$work/export_$1.log")"
 }
-# Runs $ramp_prelude (below) then the checks $3 in Blender on $work/NAME/NAME.blend ($1) and
+# Runs $blend_prelude (below) then the checks $3 in Blender on $work/NAME/NAME.blend ($1) and
 # prints their line starting with $2 (what is checked, also named if it fails).
-check_ramp() {  # $1 = NAME, $2 = what, $3 = Python
-  blender -b "$work/$1/$1.blend" --factory-startup --python-exit-code 1 --python-expr "$ramp_prelude$3" \
+check_blend() {  # $1 = NAME, $2 = what, $3 = Python
+  blender -b "$work/$1/$1.blend" --factory-startup --python-exit-code 1 --python-expr "$blend_prelude$3" \
     -- "$work/$1_render.png" > "$work/$1_check.log" 2>&1 ||
     fail "the $2 in Blender: $(grep -E 'Error|assert' "$work/$1_check.log" | tail -5)"
   grep "^$2" "$work/$1_check.log"
 }
-# What both ramp checks run in Blender first: ramp_volume(name, grids) asserts a visible volume
+# What each check_blend runs in Blender first: ramp_volume(name, grids) asserts a visible volume
 # object reading exactly those grids and gives its nodes and Color Ramp elements; mesh_nodes(name)
 # the fluid mesh's material nodes; cycles_pixels(w, h, spp, frame) renders to `out` in Cycles.
-ramp_prelude='
+blend_prelude='
 import bpy, sys
 out = sys.argv[sys.argv.index("--") + 1]
 def ramp_volume(name, grids):
@@ -146,7 +146,7 @@ def cycles_pixels(w, h, spp, frame):
 # of the VDB sequence maps the flames' temperature grid through the ramp inside their level set;
 # the flame mesh keeps no constant emission; Cycles renders it glowing orange.
 run_and_export boil boiling 0.12
-check_ramp boil "emission ramp" '
+check_blend boil "emission ramp" '
 nodes, ramp = ramp_volume("flame_emission", ["flame", "temperature_flame"])
 assert len(ramp) == 32, "%d ramp elements" % len(ramp)
 assert max(ramp[0].color[:3]) < 1e-3 and abs(max(ramp[-1].color[:3]) - 1) < 1e-6, "ramp ends %s %s" % (tuple(ramp[0].color), tuple(ramp[-1].color))
@@ -162,7 +162,7 @@ assert glow > 0, "no pixel glows orange"
 # Cycles' terms (density 18 per m, colour 1 - sigma / 18); the liquid mesh keeps no constant
 # absorption; Cycles renders the hot half red, as our renderer does.
 run_and_export dif diffusion 0.2
-check_ramp dif "absorption ramp" '
+check_blend dif "absorption ramp" '
 nodes, ramp = ramp_volume("liquid_absorption", ["liquid", "temperature_liquid"])
 assert [n for n in nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"], "no Volume Absorption"
 want = [[1 - c / 18 for c in s] for s in ([4.0, 1.2, 0.8], [1.5, 8.0, 5.0], [0.6, 18.0, 12.0])]  # diffusion.toml
@@ -187,7 +187,7 @@ assert red > 0, "no pixel is tinted red"
   fail "level-set export of the motion-blur run failed: $(cat "$work/export_blur_vdb.log")"
 grep -q "export with --meshes ply for motion blur" "$work/export_blur_vdb.log" ||
   fail "the level-set export did not say it cannot blur: $(cat "$work/export_blur_vdb.log")"
-check_ramp blur "motion blur" '
+check_blend blur "motion blur" '
 import struct
 s = bpy.context.scene
 assert s.render.use_motion_blur and abs(s.render.motion_blur_shutter - 0.5) < 1e-6, "motion blur %s, shutter %s" % (s.render.use_motion_blur, s.render.motion_blur_shutter)
