@@ -37,15 +37,17 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
         const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
         const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
         const Real Vj = ps.mass[j] / ps.restDensity[j];
-        fluidGrad_[k] = g * Vj;
-        grad += fluidGrad_[k];
+        const Vec3 gv = g * Vj;
+        fluidGrad_[k] = {float(gv.x), float(gv.y), float(gv.z)};
+        grad += gv;
         others += Vj * lengthSquared(g) / ps.restDensity[j];
       }
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
-        wallGrad_[k] = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
-        gradB += wallGrad_[k];
+        const Vec3 gv = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
+        wallGrad_[k] = {float(gv.x), float(gv.y), float(gv.z)};
+        gradB += gv;
       }
       diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
     }
@@ -59,9 +61,15 @@ void DfsphSolver::densityRate(const StepContext& ctx, const std::vector<Vec3>& v
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Vec3 vi = velocity[i];
       Real sum = 0;
-      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k)
-        sum += dot(vi - velocity[ctx.fluidNeighbors.indices[k]], fluidGrad_[k]);
-      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) sum += dot(vi, wallGrad_[k]);
+      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
+        const Vec3 d = vi - velocity[ctx.fluidNeighbors.indices[k]];
+        const GradF& g = fluidGrad_[k];
+        sum += d.x * g.x + d.y * g.y + d.z * g.z;
+      }
+      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+        const GradF& g = wallGrad_[k];
+        sum += vi.x * g.x + vi.y * g.y + vi.z * g.z;
+      }
       rate[i] = sum;
     }
   });
@@ -76,10 +84,14 @@ void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, c
       Vec3 acc;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
         const Real pij = pi + p[ctx.fluidNeighbors.indices[k]];
-        if (pij != 0) acc += fluidGrad_[k] * pij;
+        const GradF& g = fluidGrad_[k];
+        acc += Vec3(g.x, g.y, g.z) * pij;
       }
       if (pi != 0)
-        for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) acc += wallGrad_[k] * pi;
+        for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+          const GradF& g = wallGrad_[k];
+          acc += Vec3(g.x, g.y, g.z) * pi;
+        }
       // Velocities are read (positions only) and written per particle: no race.
       velocity[i] -= acc * (dt / ps.restDensity[i]);
     }

@@ -117,7 +117,12 @@ class DfsphSolver {
   std::vector<Real> correctionPressure_;
   std::vector<Real> diagonal_, rate_, delta_;
   std::vector<Real> lower_;  // the least pressure each particle may hold (0, or -p_ref)
-  std::vector<Vec3> fluidGrad_, wallGrad_;  // per neighbour pair, from computeDiagonal
+  // V grad W per neighbour pair, from computeDiagonal, in single precision: the sweeps stream
+  // them once per iteration, and half the bytes is most of a sweep's time.
+  struct GradF {
+    float x, y, z;
+  };
+  std::vector<GradF> fluidGrad_, wallGrad_;
 };
 
 }  // namespace mf
