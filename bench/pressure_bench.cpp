@@ -1,6 +1,7 @@
 // pressure_bench: the reference dam break (issue 21) with our two pressure solvers and, in the same
 // run, the peer (SPlisHSPlasH, ../shared/peer/run-peer) on the same scene. For each solver and
-// thread count it prints wall seconds per simulated second, steps, iterations per step, the mean
+// thread count it prints wall seconds per simulated second, steps, iterations per step (ours: both
+// solves and the passes; the peer's: its density and divergence solves, from its log), the mean
 // and the largest density error, ns per particle-step and peak RSS; then the ratios the issue's
 // targets are stated in.
 //
@@ -21,7 +22,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <thread>
 #include <string>
@@ -146,12 +149,27 @@ int runOurs(const std::string& solver, int threads, double end, const std::vecto
   return 0;
 }
 
-int runPeer(const std::string& script, const std::string& method, int threads, double end) {
+int runPeer(const std::string& script, const std::string& method, int threads, double end, const std::string& outDir) {
   const std::string t = std::to_string(threads), e = fmt::format("{}", end);
   setenv("OMP_NUM_THREADS", t.c_str(), 1);
-  execl(script.c_str(), script.c_str(), method.c_str(), e.c_str(), static_cast<char*>(nullptr));
+  execl(script.c_str(), script.c_str(), method.c_str(), e.c_str(), outDir.c_str(), static_cast<char*>(nullptr));
   fmt::print(stderr, "pressure_bench: cannot run {}\n", script);
   return 127;
+}
+
+// The peer's line counts its density solve's iterations only; its log also has the divergence
+// solve's, which ours counts in its iterations per step.
+std::string peerDivergenceIterations(const std::string& outDir) {
+  std::ifstream log(outDir + "/log.txt");
+  const std::string key = "Average number: DFSPH - iterationsV:";
+  for (std::string l; std::getline(log, l);)
+    if (const size_t at = l.find(key); at != std::string::npos) {
+      std::stringstream ss(l.substr(at + key.size()));
+      std::string v;
+      ss >> v;
+      return v;
+    }
+  return "";
 }
 
 // "key=value" out of a result line, or "" if absent.
@@ -220,10 +238,13 @@ int main(int argc, char** argv) {
       return;
     }
     const bool ours = row.who == "ours";
+    std::string iterations = ours ? field(l, "iterations_per_step") : field(l, "iterations");
+    if (!ours && !field(l, "iterations_v").empty())
+      iterations = fmt::format("{:.1f}+{:.1f}", number(l, "iterations"), number(l, "iterations_v"));
     const double wall = number(l, "wall_s");
     const double perSim = ours ? number(l, "wall_per_sim_s") : wall / end;
     fmt::print("{:<12} {:>3} {:>10.1f} {:>7} {:>8} {:>8}% {:>8}% {:>10} {:>9.0f} {:>7}\n", row.who + " " + row.solver, row.threads,
-               perSim, field(l, "steps"), ours ? field(l, "iterations_per_step") : field(l, "iterations"),
+               perSim, field(l, "steps"), iterations,
                ours ? field(l, "mean_error_pct") : "?", ours ? field(l, "max_error_pct") : "?", field(l, "ns_per_particle_step"),
                row.r.peakMiB, ours ? field(l, "clamps") : "-");
     std::fflush(stdout);
@@ -235,7 +256,12 @@ int main(int argc, char** argv) {
       rows.push_back({"ours", s, t, inChild([&] { return runOurs(s, t, end, sets); })});
       print(rows.back());
       if (withPeer) {
-        rows.push_back({"peer", s, t, inChild([&] { return runPeer(peer, s, t, end); })});
+        char dir[] = "/tmp/pressure_bench_peer.XXXXXX";
+        const std::string outDir = mkdtemp(dir) ? dir : "";
+        rows.push_back({"peer", s, t, inChild([&] { return runPeer(peer, s, t, end, outDir); })});
+        if (const std::string v = outDir.empty() ? "" : peerDivergenceIterations(outDir); !v.empty())
+          rows.back().r.line += " iterations_v=" + v;
+        if (!outDir.empty()) std::filesystem::remove_all(outDir);
         print(rows.back());
       }
     }
