@@ -30,7 +30,8 @@ struct StepContext {
   const NeighborLists& boundaryNeighbors;  // fluid-boundary, rows per particle
   const BoundarySamples& boundary;
   Real time;
-  // The grids behind the lists (built from the current positions), for effects that must look
+  // The grids behind the lists (built from the positions of the step's move; DFSPH's passes on
+  // compression move particles by a small part of a spacing after it), for effects that must look
   // around points that are not particles (where a new particle would go): build a CellGrid of
   // the points with `gridOrigin` and h, and call its findNeighbors against these.
   const CellGrid* fluidGrid = nullptr;

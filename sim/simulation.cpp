@@ -249,17 +249,20 @@ StepContext Simulation::context() const {
 
 void Simulation::refresh() { searchAndDensity(); }
 
-void Simulation::searchAndDensity() {
+void Simulation::searchAndDensity(bool search) {
   const auto t0 = Clock::now();
   const size_t n = ps_.size();
-  fluidGrid_.build(ps_.position.data(), n, gridOrigin_, kernels_.h);
   const PeriodicDomain periodic = scene_.periodic();
-  fluidGrid_.findNeighbors(fluidGrid_, kernels_.h, true, fluidNeighbors_, periodic);
-  if (boundary_.size() > 0) {
-    fluidGrid_.findNeighbors(boundaryGrid_, kernels_.h, false, boundaryNeighbors_, periodic);
-  } else {
-    boundaryNeighbors_.offsets.assign(n + 1, 0);
-    boundaryNeighbors_.indices.clear();
+  listsStale_ = !search;
+  if (search) {
+    fluidGrid_.build(ps_.position.data(), n, gridOrigin_, kernels_.h);
+    fluidGrid_.findNeighbors(fluidGrid_, kernels_.h, true, fluidNeighbors_, periodic);
+    if (boundary_.size() > 0) {
+      fluidGrid_.findNeighbors(boundaryGrid_, kernels_.h, false, boundaryNeighbors_, periodic);
+    } else {
+      boundaryNeighbors_.offsets.assign(n + 1, 0);
+      boundaryNeighbors_.indices.clear();
+    }
   }
   const auto t1 = Clock::now();
   times_.neighborSearch += std::chrono::duration<double>(t1 - t0).count();
@@ -592,6 +595,9 @@ void Simulation::advanceTo(Real t, const std::function<void(const Simulation&)>&
     step(dfsph_ ? remaining : evenStep(remaining, scene_.solver.maxDt));
     if (afterStep) afterStep(*this);
   }
+  // A frame's state is what a checkpoint restores: neighbour lists and density from a search at
+  // the positions reached, as loadCheckpoint rebuilds them, so that a resumed run has the same bits.
+  if (listsStale_) searchAndDensity();
   time_ = t;
 }
 

@@ -108,7 +108,9 @@ class Simulation {
  private:
   void seedFluid();
   void seedHydrostaticPressure();
-  void searchAndDensity();
+  /// Neighbour lists (unless `search` is false: the lists of the last search are kept), density,
+  /// and the solver's diagonal at the current positions.
+  void searchAndDensity(bool search = true);
   void computePressure();
   void accumulateForces();
   Real chooseDt() const;
@@ -145,6 +147,7 @@ class Simulation {
   ParticleSet ps_;
   BoundarySamples boundary_;
   CellGrid fluidGrid_, boundaryGrid_;
+  bool listsStale_ = false;  // the lists were searched before the positions' last move (a pass)
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Vec3> savedPosition_, savedVelocity_;  // watchdog snapshot

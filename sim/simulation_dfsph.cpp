@@ -100,7 +100,10 @@ Real Simulation::stepDfsph(Real maxDt) {
       ++counters_.compressionPasses;
       for (size_t i = 0; i < ps_.size(); ++i) ps_.velocity[i] += compressionVelocity_[i];
       advect(dt, savedPosition_);
-      searchAndDensity();
+      // The correction moves particles by a small part of a spacing: the move's neighbour lists
+      // still hold every pair that matters (a pair entering the support adds a kernel value and
+      // gradient that vanish at h to second order), so the density is summed over them again.
+      searchAndDensity(false);
     }
     const auto t1 = Clock::now();
     const PressureSolveStats divergence = dfsph_->solveDivergence(context(), ps_, dt);
