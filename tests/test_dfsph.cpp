@@ -291,6 +291,17 @@ TEST(Dfsph, AHeavyLayerOverALightOneOverturnsWithTheHydrostaticReference) {
   EXPECT_EQ(sim.counters().wallClamps, 0u);
 }
 
+// A simulation of `scene` restored from `first`'s checkpoint and advanced to `t`.
+static mf::Simulation resumedFrom(const mf::Scene& scene, const mf::Simulation& first, double t) {
+  const std::string path = (std::filesystem::temp_directory_path() / ("mf_dfsph_" + std::to_string(::getpid()) + ".bin")).string();
+  first.saveCheckpoint(path, 1);
+  mf::Simulation resumed(scene);
+  resumed.loadCheckpoint(path);
+  resumed.advanceTo(t);
+  std::filesystem::remove(path);
+  return resumed;
+}
+
 TEST_P(DfsphIteration, SameBitsOnOneAndTwoThreadsAndAfterResume) {
   const mf::Scene scene = mf::loadScene("dam_break", {"solver.pressure=\"dfsph\"", "solver.particle_spacing=0.00714",
                                                       iteration()});
@@ -306,13 +317,7 @@ TEST_P(DfsphIteration, SameBitsOnOneAndTwoThreadsAndAfterResume) {
   EXPECT_GT(one.counters().pressureIterations, 0u);
   EXPECT_EQ(stateBytes(one), stateBytes(two));
   // The warm-start pressures are particle arrays: checkpointed and restored with the rest.
-  const std::string path = (std::filesystem::temp_directory_path() / ("mf_dfsph_" + std::to_string(::getpid()) + ".bin")).string();
-  mf::Simulation first = run(2, 0.05);
-  first.saveCheckpoint(path, 1);
-  mf::Simulation resumed(scene);
-  resumed.loadCheckpoint(path);
-  resumed.advanceTo(0.1);
-  std::filesystem::remove(path);
+  mf::Simulation resumed = resumedFrom(scene, run(2, 0.05), 0.1);
   EXPECT_EQ(stateBytes(resumed), stateBytes(one));
 }
 
@@ -330,14 +335,9 @@ TEST(Dfsph, ResumeAfterCompressionPassesIsBitIdentical) {
   const uint64_t stepsBefore = straight.counters().steps;
   straight.advanceTo(0.1);
   EXPECT_GT(passesBefore, stepsBefore / 2);
-  const std::string path = (std::filesystem::temp_directory_path() / ("mf_passes_" + std::to_string(::getpid()) + ".bin")).string();
   mf::Simulation first(scene);
   first.advanceTo(0.05);
-  first.saveCheckpoint(path, 1);
-  mf::Simulation resumed(scene);
-  resumed.loadCheckpoint(path);
-  resumed.advanceTo(0.1);
-  std::filesystem::remove(path);
+  mf::Simulation resumed = resumedFrom(scene, first, 0.1);
   EXPECT_EQ(stateBytes(resumed), stateBytes(straight));
 }
 
