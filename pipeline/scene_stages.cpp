@@ -10,6 +10,7 @@ SceneStages parseSceneStages(const std::string& text, const std::string& sourceN
   s.scene = scene_reading::readSimulation(doc);
   s.surfacing = readSurfacingSettings(doc, s.scene);
   s.render = readRenderSettings(doc, s.scene, s.surfacing);
+  for (const MaterialSpec& m : s.render.solidMaterials) s.surfacing.wallThickness.push_back(m.visible ? m.thickness : 0.0);
   scene_reading::finishScene(doc, s.scene);
   return s;
 }

@@ -1,14 +1,12 @@
 #include "geometry.h"
 
 #include <openvdb/tools/Interpolation.h>
-#include <openvdb/tree/LeafManager.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "sim/solids.h"
 #include "surfacing/mesh_io.h"
-#include "surfacing/particle_surface.h"
 
 namespace mf::render {
 
@@ -118,25 +116,6 @@ RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet) {
   m.triangles.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) m.triangles.push_back({t[0], t[1], t[2]});
   return m;
-}
-
-void wetContainerWalls(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, const std::vector<double>& depths) {
-  if (solids.empty() || *std::max_element(depths.begin(), depths.end()) <= 0) return;
-  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
-  const openvdb::math::Transform& xform = grid.transform();
-  leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
-    for (auto v = leaf.beginValueOn(); v; ++v) {
-      const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
-      double phi = v.getValue();
-      for (size_t k = 0; k < solids.size(); ++k) {
-        const double depth = depths[k];
-        if (depth <= 0) continue;
-        const double w = std::abs(surfacing::containerDistance(solids[k], p));
-        if (w < depth) phi = std::min(phi, std::max(phi - depth, w - depth));
-      }
-      v.setValue(float(phi));
-    }
-  });
 }
 
 RenderMesh solidMesh(const SolidSpec& s, Real t, int segments) {

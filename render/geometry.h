@@ -47,14 +47,6 @@ struct RecordedRay {
 /// The zero crossing of a level set; vertex normals from the distance gradient.
 RenderMesh levelSetMesh(const openvdb::FloatGrid& levelSet);
 
-/// For rendering only: liquid that stops short of a container wall (a gap of up to `depth`,
-/// which the renderer would show as a film of air) is extended through the gap and `depth` into
-/// the wall, where the glass's higher priority hides it: phi = min(phi, max(phi - depth,
-/// |w| - depth)), w the distance to the wall. Away from walls nothing changes; at the wall the
-/// free surface rises by at most `depth`, like a meniscus. One depth per solid (0: none), less
-/// than its wall's thickness, or the liquid shows as a film outside the glass.
-void wetContainerWalls(openvdb::FloatGrid& levelSet, const std::vector<SolidSpec>& solids, const std::vector<double>& depths);
-
 /// A container's wall of the given thickness around its fluid region (outside it), with
 /// smooth normals on curved parts and sharp edges at corners.
 RenderMesh solidMesh(const SolidSpec& solid, Real thickness, int segments = 128);

@@ -103,15 +103,7 @@ RenderFrameResult renderFrame(const std::string& surfaceFile, const Scene& scene
   openvdb::initialize();
   std::vector<Surface> surfaces;
   for (FluidGrids& f : readLevelSets(surfaceFile, scene, settings)) {
-    openvdb::FloatGrid& grid = *f.levelSet;
-    // Close gaps between liquid and glass (2 voxels: about a particle radius at the default
-    // voxel size), which would render as films of air; at most 3/4 of the wall's thickness, so
-    // that the liquid stays inside the glass that hides it (a coarse voxel reached through the
-    // lamp's 6 mm wall by 17 mm, and the glasses' 4 mm by 1 mm, as streaks of water outside).
-    std::vector<double> depths;
-    for (const MaterialSpec& m : settings.solidMaterials)
-      depths.push_back(m.visible ? std::min(2.0 * grid.voxelSize()[0], 0.75 * m.thickness) : 0.0);
-    wetContainerWalls(grid, scene.solids, depths);
+    const openvdb::FloatGrid& grid = *f.levelSet;
     RenderMesh mesh = levelSetMesh(grid);
     if (mesh.size() == 0) continue;
     if (f.velocity) {  // per vertex, for the motion vectors

@@ -273,47 +273,4 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
   return out;
 }
 
-double containerDistance(const SolidSpec& c, const openvdb::Vec3d& p) {
-  switch (c.shape) {
-    case SolidSpec::Shape::Box: {
-      double d = -1e300;
-      for (int a = 0; a < 3; ++a) {
-        d = std::max(d, c.min[a] - p[a]);
-        if (a != 1 || !c.openTop) d = std::max(d, p[a] - c.max[a]);
-      }
-      return d;
-    }
-    case SolidSpec::Shape::Cylinder: {
-      const double r = std::hypot(p.x() - c.base.x, p.z() - c.base.z);
-      double d = std::max(r - c.radius, c.base.y - p.y());
-      if (!c.openTop) d = std::max(d, p.y() - (c.base.y + c.height));
-      return d;
-    }
-    case SolidSpec::Shape::Revolution: {
-      const double y = p.y() - c.base.y;
-      const double r = std::hypot(p.x() - c.base.x, p.z() - c.base.z);
-      return std::max({r - profileRadius(c, y), c.profile.front().first - y, y - c.profile.back().first});
-    }
-  }
-  return -1e300;
-}
-
-void clipToSolids(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, double shell) {
-  if (solids.empty()) return;
-  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
-  const openvdb::math::Transform& xform = grid.transform();
-  leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
-    for (auto v = leaf.beginValueOn(); v; ++v) {
-      const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
-      double phi = v.getValue();
-      for (const SolidSpec& c : solids) {
-        const double d = containerDistance(c, p);
-        if (d > 0 && d < shell) phi = std::max(phi, d);
-        else if (d <= 0 && d > -shell) phi = std::max(phi, d);  // inside, next to the wall
-      }
-      v.setValue(float(phi));
-    }
-  });
-}
-
 }  // namespace mf::surfacing

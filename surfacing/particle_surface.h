@@ -1,8 +1,7 @@
 // Particles of one fluid to a narrow-band level set: per connected body of particles, Zhu &
 // Bridson (2005) averaged-position distance (OpenVDB's points::rasterizeSmoothSpheres) and a
 // bilateral filter on the distance (bilateral_filter.h); the bodies' union, renormalised to a
-// true distance with a 3-voxel half width; and a cut where the surface bulges through a
-// container wall.
+// true distance with a 3-voxel half width (container_walls.h fits it to the walls).
 #pragma once
 
 #include <openvdb/openvdb.h>
@@ -33,14 +32,5 @@ ParticleSurface particlesToSurface(const std::vector<openvdb::Vec3d>& positions,
 /// Deactivates voxels at or beyond `halfWidth` from the surface (clamped to +-halfWidth), makes
 /// that the background, and prunes: a narrow-band level set of exactly that half width.
 void trimBand(openvdb::FloatGrid& grid, float halfWidth);
-
-/// @brief Cuts the level set where it reaches through a container wall: outside each container,
-/// within `shell` of its surface, the distance becomes max(phi, distance to the container's
-/// interior). Fluid inside a container thus ends at the wall, not a particle radius beyond it.
-void clipToSolids(openvdb::FloatGrid& levelSet, const std::vector<SolidSpec>& solids, double shell);
-
-/// Signed distance to a container's interior (negative inside; exact for boxes and cylinders,
-/// a close bound for surfaces of revolution).
-double containerDistance(const SolidSpec& solid, const openvdb::Vec3d& p);
 
 }  // namespace mf::surfacing

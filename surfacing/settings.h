@@ -21,6 +21,10 @@ struct SurfacingSettings {
   Real filterRangeSigma = 2.0;     // voxels of distance
   int filterIterations = 4;
   bool clipToSolids = true;        // cut each level set where it overlaps a container's walls
+  bool wetWalls = true;            // extend liquid into the walls the render draws (container_walls.h)
+  // Per solid, the thickness of the wall the render draws (0: not drawn), which bounds how far
+  // the liquid reaches into it: from [render], filled in by the pipeline (parseSceneStages).
+  std::vector<double> wallThickness;
   bool fog = false;                // also a fog-volume copy ("density")
   bool velocity = false;           // also a velocity grid ("vel") from the particles
   bool meshPly = false, meshObj = false;

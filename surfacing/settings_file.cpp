@@ -27,6 +27,7 @@ SurfacingSettings readSurfacingSettings(scene_reading::SceneDocument& doc, const
   o.filterRangeSigma = t.number("filter_range_sigma", o.filterRangeSigma, 0, 10, "voxels (0 = plain Gaussian)");
   o.filterIterations = t.integer("filter_iterations", o.filterIterations, 0, 20);
   o.clipToSolids = t.boolean("clip_to_solids", o.clipToSolids);
+  o.wetWalls = t.boolean("wet_walls", o.wetWalls);
   o.fog = t.boolean("fog", o.fog);
   o.velocity = t.boolean("velocity", o.velocity);
   o.pointsPly = t.boolean("points_ply", o.pointsPly);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "attribute_grid.h"
+#include "container_walls.h"
 #include "fluid_interfaces.h"
 #include "mesh_io.h"
 #include "particle_surface.h"
@@ -99,6 +100,11 @@ SurfaceFrameResult surfaceFrame(const std::string& particleFile, const Scene& sc
     const std::vector<openvdb::Vec3d>& positions = fluids[f].positions;
     ParticleSurface& surface = fluids[f].surface;
     if (s.clipToSolids) clipToSolids(*surface.levelSet, scene.solids, s.searchRatio * spacing);
+    if (s.wetWalls && !s.wallThickness.empty()) {
+      std::vector<double> depths;
+      for (double t : s.wallThickness) depths.push_back(wettingDepth(surface.levelSet->voxelSize()[0], t));
+      wetContainerWalls(*surface.levelSet, scene.solids, depths);
+    }
     surface.levelSet->setName(name);
     surface.levelSet->insertMeta("time", openvdb::DoubleMetadata(particles.info.time));
     surface.levelSet->insertMeta("frame", openvdb::Int32Metadata(frame));

@@ -14,12 +14,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 
 #include "lattice_util.h"
 #include "sim/particle_io.h"
 #include "pipeline/scene_stages.h"
 #include "surfacing/bodies.h"
+#include "surfacing/container_walls.h"
 #include "surfacing/mesh_io.h"
 #include "surfacing/particle_surface.h"
 #include "surfacing/surface_frame.h"
@@ -255,6 +257,82 @@ TEST(Surfacing, ClippedAtContainerWall) {
   EXPECT_GT(bulge, 0.5 * voxel) << "unclipped surface should reach through the wall";
   EXPECT_NEAR(after.wsSample(Vec3d(0, 0.05, 0.05)), 0.0, 0.5 * voxel);
   EXPECT_GT(after.wsSample(Vec3d(-voxel, 0.05, 0.05)), 0.0);
+}
+
+// Liquid that stops 2 mm short of a glass wall (what a renderer shows as a film of air) is
+// extended to the wall and into it, through the surfacing stage with the wall thickness the
+// render draws (4 mm: depth min(2 voxels, 3/4 of it) = 3 mm), and never through the glass.
+// The phi figures are distances in m; the bounds are a fifth of a voxel (1 mm), within which the
+// trilinear sample of the 5 mm voxels reproduces these piecewise linear distances.
+TEST(Surfacing, LiquidIsExtendedIntoTheGlassItStopsShortOfButNotThroughIt) {
+  const fs::path dir = fs::temp_directory_path() / ("mf_wet_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const char* text = R"(
+[scene]
+name = "wet"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.1, -0.1, -0.1]
+domain_max = [0.3, 0.3, 0.3]
+[solver]
+particle_spacing = 0.01
+[[phase]]
+name = "water"
+rest_density = 1000.0
+[[solid]]
+name = "glass"
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.2, 0.2, 0.2]
+open_top = true
+[[fluid]]
+phase = "water"
+min = [0.0, 0.0, 0.0]
+max = [0.1, 0.1, 0.1]
+[render.material.glass]
+thickness = 0.004
+)";
+  // The first layer 8 mm from the wall x = 0: the surface (0.6 spacings out) ends 2 mm short.
+  const auto points = lattice({0.003, 0.005, 0.005}, {0.1, 0.1, 0.1}, 0.0, 9);
+  auto phiAlongX = [&](const std::vector<std::string>& overrides) {
+    const mf::SceneStages stages = mf::parseSceneStages(text, "wet.toml", overrides);
+    mf::ParticleSet ps;
+    uint64_t id = 0;
+    for (const auto& p : points) {
+      mf::ParticleInit init;
+      init.position = {p.x(), p.y(), p.z()};
+      init.mass = 1e-3;
+      init.restDensity = 1000;
+      ps.append(id++, init);
+    }
+    mf::FrameInfo info;
+    info.sceneName = stages.scene.name;
+    info.particleSpacing = kSpacing;
+    info.phaseNames = {"water"};
+    const std::string particleFile = (dir / "particles.0000.vdb").string(), surfaceFile = (dir / "surface.0000.vdb").string();
+    fs::remove(surfaceFile);
+    mf::writeParticleFrame(particleFile, ps, info);
+    mf::surfacing::surfaceFrame(particleFile, stages.scene, stages.surfacing, surfaceFile, "", 0);
+    std::ifstream in(surfaceFile, std::ios::binary);
+    openvdb::io::Stream stream(in, false);
+    const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>((*stream.getGrids())[0]);
+    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> phi(*grid);
+    std::map<double, double> out;
+    for (double x : {0.0, -0.0035, 0.002, 0.006}) out[x] = phi.wsSample(Vec3d(x, 0.05, 0.05));
+    return out;
+  };
+  const auto dry = phiAlongX({"surfacing.wet_walls=false"});
+  EXPECT_GT(dry.at(0.0), 0.001) << "without wetting, a film of air at the wall";
+  const auto wet = phiAlongX({});
+  EXPECT_LT(wet.at(0.0), -0.0005) << "the liquid reaches the glass";
+  EXPECT_LT(wet.at(0.002), 0.0);
+  // Measured 4.6 mm; with the depth at 2 voxels, not bounded by the glass, it would be -4.5 mm.
+  EXPECT_GT(wet.at(-0.0035), 0.0) << "and stops inside the 4 mm glass";
+  EXPECT_NEAR(wet.at(0.006), dry.at(0.006), 1e-6) << "away from the wall nothing changes";
+  const auto hidden = phiAlongX({"render.material.glass.visible=false"});
+  EXPECT_EQ(hidden.at(0.0), dry.at(0.0)) << "a wall the render does not draw is not wetted";
+  fs::remove_all(dir);
 }
 
 TEST(Surfacing, MeshNormalsPointOutward) {
