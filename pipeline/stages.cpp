@@ -175,7 +175,7 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
 
   const uint64_t steps0 = sim.stepCount();
   const double time0 = sim.time();
-  const uint64_t iterations0 = sim.counters().pressureIterations + sim.counters().divergenceIterations;
+  const uint64_t density0 = sim.counters().pressureIterations, divergence0 = sim.counters().divergenceIterations;
   const uint64_t passes0 = sim.counters().compressionPasses;
   double particleSteps = 0;
   const StopSignals stopSignals;
@@ -243,9 +243,12 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
       c.removedOutOfDomain, c.retries, c.wallClamps, 100 * c.maxDensityError,
       scene.solver.pressure == PressureSolverChoice::WCSPH
           ? std::string("pressure: wcsph")
-          : fmt::format("pressure: dfsph ({}), {:.1f} iterations per step, {} compression passes", scene.solver.conjugateGradient ? "cg" : "jacobi",
-                        steps ? double(c.pressureIterations + c.divergenceIterations - iterations0) / double(steps) : 0.0,
-                        c.compressionPasses - passes0),
+          : fmt::format("pressure: dfsph ({}), {:.1f} iterations per step ({:.1f} constant-density with the passes, {:.1f} divergence-free), "
+                        "{} compression passes",
+                        scene.solver.conjugateGradient ? "cg" : "jacobi",
+                        steps ? double(c.pressureIterations - density0 + c.divergenceIterations - divergence0) / double(steps) : 0.0,
+                        steps ? double(c.pressureIterations - density0) / double(steps) : 0.0,
+                        steps ? double(c.divergenceIterations - divergence0) / double(steps) : 0.0, c.compressionPasses - passes0),
       sim.time() > time0 ? tSim / (sim.time() - time0) : 0.0) + [&] {
         std::string w;
         for (const std::string& line : runWarnings(sim, seeded)) w += "  warning: " + line + "\n";

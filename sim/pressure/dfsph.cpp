@@ -12,8 +12,8 @@ namespace mf {
 
 namespace {
 constexpr Real kRelaxation = 0.5;
-// A solve also goes on while one particle is compressed by more than this many tolerances (1 %
-// density at the default 0.05 %): the mean alone let a lone splash particle reach a wall with its
+// The constant-density solve also goes on while one particle is compressed by more than this many
+// tolerances (1 % density at the default 0.05 %): the mean alone let a lone splash particle reach a wall with its
 // compression unresolved (one clamp in the dam break; none at 20, 24.7 % peak instead of 28.5 %,
 // 10 % more iterations).
 constexpr Real kWorstError = 20;
@@ -38,7 +38,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
         const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
         const Real Vj = ps.mass[j] / ps.restDensity[j];
         const Vec3 gv = g * Vj;
-        fluidGrad_[k] = {float(gv.x), float(gv.y), float(gv.z)};
+        fluidGrad_[k] = GradF::of(gv);
         grad += gv;
         others += Vj * lengthSquared(g) / ps.restDensity[j];
       }
@@ -46,7 +46,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps)
         const uint32_t b = ctx.boundaryNeighbors.indices[k];
         const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
         const Vec3 gv = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
-        wallGrad_[k] = {float(gv.x), float(gv.y), float(gv.z)};
+        wallGrad_[k] = GradF::of(gv);
         gradB += gv;
       }
       diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
@@ -63,12 +63,10 @@ void DfsphSolver::densityRate(const StepContext& ctx, const std::vector<Vec3>& v
       Real sum = 0;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
         const Vec3 d = vi - velocity[ctx.fluidNeighbors.indices[k]];
-        const GradF& g = fluidGrad_[k];
-        sum += d.x * g.x + d.y * g.y + d.z * g.z;
+        sum += dot(d, fluidGrad_[k].vec());
       }
       for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-        const GradF& g = wallGrad_[k];
-        sum += vi.x * g.x + vi.y * g.y + vi.z * g.z;
+        sum += dot(vi, wallGrad_[k].vec());
       }
       rate[i] = sum;
     }
@@ -84,13 +82,11 @@ void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, c
       Vec3 acc;
       for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
         const Real pij = pi + p[ctx.fluidNeighbors.indices[k]];
-        const GradF& g = fluidGrad_[k];
-        acc += Vec3(g.x, g.y, g.z) * pij;
+        acc += fluidGrad_[k].vec() * pij;
       }
       if (pi != 0)
         for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-          const GradF& g = wallGrad_[k];
-          acc += Vec3(g.x, g.y, g.z) * pi;
+          acc += wallGrad_[k].vec() * pi;
         }
       // Velocities are read (positions only) and written per particle: no race.
       velocity[i] -= acc * (dt / ps.restDensity[i]);
@@ -98,13 +94,17 @@ void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, c
   });
 }
 
-bool DfsphSolver::converged(int used, const PressureSolveStats& s, Real tolerance) const {
-  return used >= settings_.minIterations && s.meanError <= tolerance && s.maxError <= kWorstError * tolerance;
+DfsphSolver::Tolerance DfsphSolver::densityTolerance() const {
+  return {settings_.densityTolerance, kWorstError * settings_.densityTolerance};
+}
+
+bool DfsphSolver::converged(int used, const PressureSolveStats& s, const Tolerance& tolerance) const {
+  return used >= settings_.minIterations && s.meanError <= tolerance.mean && s.maxError <= tolerance.worst;
 }
 
 template <class Error>
 PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                                        Real errorScale, Real tolerance, Real stallRatio, Error&& error) {
+                                        Real errorScale, const Tolerance& tolerance, Real stallRatio, Error&& error) {
   const size_t n = ps.size();
   PressureSolveStats stats;
   if (n == 0) return stats;
@@ -142,7 +142,7 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
 
 template <class Error>
 PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt,
-                                          Real stepScale, Real errorScale, Real tolerance, int used, Error&& error) {
+                                          Real stepScale, Real errorScale, const Tolerance& tolerance, int used, Error&& error) {
   const size_t n = ps.size();
   PressureSolveStats stats;
   if (n == 0) return stats;
@@ -201,7 +201,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
         return r_[i] * z_[i];
       });
       const Real left = blockSum(n, [&](size_t i) { return std::fabs(r_[i]); }) * errorScale / Real(n);
-      if (left <= 0.5 * tolerance) break;
+      if (left <= 0.5 * tolerance.mean) break;
       const Real beta = rzNext / rz;
       rz = rzNext;
       for (size_t i = 0; i < n; ++i) d_[i] = z_[i] + beta * d_[i];
@@ -219,7 +219,7 @@ PressureSolveStats DfsphSolver::iterateCg(const StepContext& ctx, ParticleSet& p
 
 template <class Error>
 PressureSolveStats DfsphSolver::solve(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                                      Real errorScale, Real tolerance, Error&& error) {
+                                      Real errorScale, const Tolerance& tolerance, Error&& error) {
   // Warm start: the last step's pressure (hydrostatic pressure persists from step to step).
   applyPressure(ctx, ps, p, dt, ps.velocity);
   if (!settings_.conjugateGradient)
@@ -237,7 +237,8 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   const size_t n = ps.size();
   lower_.assign(n, 0);
   const HydrostaticReference& ref = settings_.reference;
-  if (!ref.active()) return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  const Tolerance tolerance = densityTolerance();
+  if (!ref.active()) return solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, tolerance, error);
   // Hydrostatic reference: the solve works on p' = p - p_ref, with p_ref = rho_ref |g| (level -
   // height) below the level, and the exact -grad p_ref / rho0_i = rho_ref |g| / rho0_i (upward)
   // goes into v* as a body force. p >= 0 becomes p' >= -p_ref. The same momentum equation, with
@@ -251,7 +252,7 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
     lower_[i] = -pref;
     ps.velocity[i] += ref.up * (dt * ref.weight / ps.restDensity[i]);
   }
-  const PressureSolveStats stats = solve(ctx, ps, p, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  const PressureSolveStats stats = solve(ctx, ps, p, dt, 1 / (dt * dt), 1, tolerance, error);
   for (size_t i = 0; i < n; ++i) p[i] -= lower_[i];
   return stats;
 }
@@ -263,7 +264,7 @@ PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, Particl
   lower_.assign(n, 0);
   auto error = [&](size_t i) { return densityError(ps, dt, i); };
   std::swap(ps.velocity, u);
-  const PressureSolveStats stats = solve(ctx, ps, correctionPressure_, dt, 1 / (dt * dt), 1, settings_.densityTolerance, error);
+  const PressureSolveStats stats = solve(ctx, ps, correctionPressure_, dt, 1 / (dt * dt), 1, densityTolerance(), error);
   std::swap(ps.velocity, u);
   return stats;
 }
@@ -276,7 +277,11 @@ PressureSolveStats DfsphSolver::solveDivergence(const StepContext& ctx, Particle
     const bool dense = densityError(ps, dt, i) >= 0;
     return dense ? rate_[i] : std::min(rate_[i], Real(0));
   };
-  return solve(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, settings_.divergenceTolerance, error);
+  // The mean alone: the constant-density solve and its passes resolve a particle's compression;
+  // a worst-particle bound here cost 2 of the reference dam break's 4.9 iterations per step and
+  // left the same compression (4.89 % at most against 4.95 %).
+  return solve(ctx, ps, ps.divergencePressure, dt, 1 / dt, dt, {settings_.divergenceTolerance, std::numeric_limits<Real>::infinity()},
+               error);
 }
 
 }  // namespace mf

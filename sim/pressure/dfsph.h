@@ -22,7 +22,7 @@
 // step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
 // them), iterate at least twice, and stop when the mean density error is below
 // `density_tolerance` (relative) and the mean divergence error times dt below
-// `divergence_tolerance`, and no particle's error is over 20 tolerances. Where a particle still
+// `divergence_tolerance`, and (constant density) no particle's error is over 20 tolerances. Where a particle still
 // ends a move compressed past `solver.max_compression`, the simulation solves again at the
 // positions reached (solveCompression) and redoes the move. Sums over particles run in fixed
 // blocks, so the bits do not depend on the number of threads.
@@ -76,6 +76,11 @@ class DfsphSolver {
   const DfsphSettings& settings() const { return settings_; }
 
  private:
+  /// Where a solve stops: the mean error, and the worst particle's.
+  struct Tolerance {
+    Real mean, worst;
+  };
+  Tolerance densityTolerance() const;
   /// theta*_i - 1, theta* = theta + dt d(theta)/dt: the density the move would leave, from the
   /// last densityRate (rate_).
   Real densityError(const ParticleSet& ps, Real dt, size_t i) const {
@@ -90,25 +95,25 @@ class DfsphSolver {
   /// Jacobi sweeps while they converge fast and CG on the rest.
   template <class Error>
   PressureSolveStats solve(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                           Real errorScale, Real tolerance, Error&& error);
+                           Real errorScale, const Tolerance& tolerance, Error&& error);
 
   /// Jacobi iterations: p_i += omega error_i stepScale / D_i (kept >= 0) until the mean |error| x
   /// errorScale is below `tolerance`, or (not converged) a sweep leaves more than `stallRatio` of
   /// the error before it.
-  /// The stop both iterations share: at least minIterations, the mean error within `tolerance`
-  /// and no particle's over kWorstError tolerances.
-  bool converged(int used, const PressureSolveStats& s, Real tolerance) const;
+  /// The stop both iterations share: at least minIterations, the mean and the worst error within
+  /// `tolerance`.
+  bool converged(int used, const PressureSolveStats& s, const Tolerance& tolerance) const;
 
   template <class Error>
   PressureSolveStats iterate(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                             Real errorScale, Real tolerance, Real stallRatio, Error&& error);
+                             Real errorScale, const Tolerance& tolerance, Real stallRatio, Error&& error);
 
   /// The same solve by Jacobi-preconditioned conjugate gradients on the active set (the particles
   /// that carry a pressure or are compressed), projected to p >= 0 between restarts; `used`
   /// iterations are already spent.
   template <class Error>
   PressureSolveStats iterateCg(const StepContext& ctx, ParticleSet& ps, std::vector<Real>& p, Real dt, Real stepScale,
-                               Real errorScale, Real tolerance, int used, Error&& error);
+                               Real errorScale, const Tolerance& tolerance, int used, Error&& error);
 
   DfsphSettings settings_;
   std::vector<Real> err_, x_, r_, z_, d_, q_;
@@ -121,6 +126,8 @@ class DfsphSolver {
   // them once per iteration, and half the bytes took 15 % off the reference dam break's run.
   struct GradF {
     float x, y, z;
+    static GradF of(const Vec3& v) { return {float(v.x), float(v.y), float(v.z)}; }
+    Vec3 vec() const { return {x, y, z}; }
   };
   std::vector<GradF> fluidGrad_, wallGrad_;
 };
