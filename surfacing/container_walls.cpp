@@ -34,40 +34,42 @@ double containerDistance(const SolidSpec& c, const openvdb::Vec3d& p) {
   return -1e300;
 }
 
-void clipToSolids(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, double shell) {
-  if (solids.empty()) return;
+namespace {
+
+/// phi = f(world position, phi) on every active voxel of the level set.
+template <class F>
+void remapActiveVoxels(openvdb::FloatGrid& grid, F&& f) {
   openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
   const openvdb::math::Transform& xform = grid.transform();
   leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
-    for (auto v = leaf.beginValueOn(); v; ++v) {
-      const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
-      double phi = v.getValue();
-      for (const SolidSpec& c : solids) {
-        const double d = containerDistance(c, p);
-        if (d > 0 && d < shell) phi = std::max(phi, d);
-        else if (d <= 0 && d > -shell) phi = std::max(phi, d);  // inside, next to the wall
-      }
-      v.setValue(float(phi));
+    for (auto v = leaf.beginValueOn(); v; ++v) v.setValue(float(f(xform.indexToWorld(v.getCoord()), double(v.getValue()))));
+  });
+}
+
+}  // namespace
+
+void clipToSolids(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, double shell) {
+  if (solids.empty()) return;
+  remapActiveVoxels(grid, [&](const openvdb::Vec3d& p, double phi) {
+    for (const SolidSpec& c : solids) {
+      const double d = containerDistance(c, p);
+      if (d > 0 && d < shell) phi = std::max(phi, d);
+      else if (d <= 0 && d > -shell) phi = std::max(phi, d);  // inside, next to the wall
     }
+    return phi;
   });
 }
 
 void wetContainerWalls(openvdb::FloatGrid& grid, const std::vector<SolidSpec>& solids, const std::vector<double>& depths) {
   if (solids.empty() || *std::max_element(depths.begin(), depths.end()) <= 0) return;
-  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(grid.tree());
-  const openvdb::math::Transform& xform = grid.transform();
-  leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, size_t) {
-    for (auto v = leaf.beginValueOn(); v; ++v) {
-      const openvdb::Vec3d p = xform.indexToWorld(v.getCoord());
-      double phi = v.getValue();
-      for (size_t k = 0; k < solids.size(); ++k) {
-        const double depth = depths[k];
-        if (depth <= 0) continue;
-        const double w = std::abs(containerDistance(solids[k], p));
-        if (w < depth) phi = std::min(phi, std::max(phi - depth, w - depth));
-      }
-      v.setValue(float(phi));
+  remapActiveVoxels(grid, [&](const openvdb::Vec3d& p, double phi) {
+    for (size_t k = 0; k < solids.size(); ++k) {
+      const double depth = depths[k];
+      if (depth <= 0) continue;
+      const double w = std::abs(containerDistance(solids[k], p));
+      if (w < depth) phi = std::min(phi, std::max(phi - depth, w - depth));
     }
+    return phi;
   });
 }
 
