@@ -69,9 +69,9 @@ struct PathTracer::Impl {
   /// (shadow rays need only the geometric one). `hit`: the caller's (filled in, not cleared:
   /// only what the kind of hit needs is valid). `knownLight`: light.intersect(o, d) where the
   /// caller has it already.
-  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, RayLog& log, Hit& hit, bool shading = true,
+  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, Hit& hit, bool shading = true,
                            const Real* knownLight = nullptr) const {
-    geometry.intersect(o, d, tfar, leaving, leavingPrim, log, hit, shading);
+    geometry.intersect(o, d, tfar, leaving, leavingPrim, hit, shading);
     Real best = hit.kind == Hit::Mesh ? hit.t : tfar;
     if (settings.floor && d.y < 0 && o.y > settings.floorHeight) {
       const Real t = (settings.floorHeight - o.y) / d.y;
@@ -108,13 +108,14 @@ struct PathTracer::Impl {
   /// `h` (water clipped to a glass wall's inner face, two volumes with the same surface) enter
   /// or leave `after` too, so that the ray goes from the medium before all of them to the medium
   /// after all of them, whichever Embree reported first. Returns how many faces were added.
-  MF_INLINE int crossCoincident(const Hit& h, const Vec3& d, MediumStack& after, RayLog& log) const {
+  MF_INLINE int crossCoincident(const Hit& h, const Vec3& d, MediumStack& after) const {
     if (!geometry.nearAnother(h.material, h.prim)) return 0;
     int group[4] = {h.material};
     int members = 1;
     Hit twin;
     twin.time = h.time;
-    while (members < 4 && geometry.coincident(h.p, d, group, members, log, twin)) {
+    twin.log = h.log;
+    while (members < 4 && geometry.coincident(h.p, d, group, members, twin)) {
       if (dot(d, twin.ng) < 0) after.push(twin.material);
       else after.remove(twin.material);
       group[members++] = twin.material;
@@ -126,12 +127,12 @@ struct PathTracer::Impl {
   /// approximation: refraction does not bend shadow rays). Opaque surfaces and the scattering
   /// of media block light by their extinction.
   /// `crossed`: set when the ray crossed a surface (a path the BSDF sampling cannot make).
-  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, RayLog& log, Hit& h, bool& crossed) const {
+  Vec3 transmittance(Vec3 o, const Vec3& d, Real dist, int leaving, unsigned leavingPrim, MediumStack stack, Hit& h, bool& crossed) const {
     crossed = false;
     Vec3 T{1, 1, 1};
     const Real firstLight = dist;  // the caller's light.intersect(o, d)
     for (int crossing = 0; crossing < 32; ++crossing) {
-      intersect(o, d, dist, leaving, leavingPrim, log, h, false, crossing == 0 ? &firstLight : nullptr);
+      intersect(o, d, dist, leaving, leavingPrim, h, false, crossing == 0 ? &firstLight : nullptr);
       const Real seg = h.kind == Hit::None || h.kind == Hit::Light ? dist : h.t;
       const int medium = stack.top(materials);
       if (medium >= 0) {
@@ -149,7 +150,7 @@ struct PathTracer::Impl {
       if (m.kind == MaterialSpec::Kind::Diffuse || m.kind == MaterialSpec::Kind::Emitter) return {};
       if (dot(d, h.ng) < 0) stack.push(h.material);
       else stack.remove(h.material);
-      const bool group = crossCoincident(h, d, stack, log) > 0;
+      const bool group = crossCoincident(h, d, stack) > 0;
       crossed = true;
       if (maxComponent(T) < 1e-4) return {};
       const Vec3 from = o;
@@ -166,7 +167,7 @@ struct PathTracer::Impl {
   /// `cone`: instead, a uniform cone of directions around *cone with cosine coneCos (a
   /// regularised mirror, see trace).
   Vec3 directLight(const Vec3& p, const Vec3* normal, int leaving, unsigned leavingPrim, const MediumStack& stack, Real u1, Real u2,
-                   RayLog& log, Hit& scratch, const Vec3* cone = nullptr,
+                   Hit& scratch, const Vec3* cone = nullptr,
                    Real coneCos = 1) const {
     if (!light.present()) return {};
     Vec3 dir;
@@ -186,7 +187,7 @@ struct PathTracer::Impl {
     const Real tl = light.intersect(p, dir, epsilon);
     if (tl <= 0) return {};
     bool crossed;
-    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, log, scratch, crossed);
+    const Vec3 T = transmittance(p, dir, tl, leaving, leavingPrim, stack, scratch, crossed);
     // A shadow ray through surfaces stands for paths that refraction would bend: the lobe's
     // sampling never makes them (trace drops its light hits there), so the light sample keeps
     // its full weight.
@@ -233,7 +234,7 @@ struct PathTracer::Impl {
   /// `h`, `shadow`: scratch hits (the caller's, so that they are not cleared for every path).
   /// `first`: where to record the primary hit and the specular chain's albedo and fluid (AOVs);
   /// recording draws no samples, so the path is the same with or without.
-  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, RayLog& log, Hit& h, Hit& shadow,
+  Vec3 trace(Vec3 o, Vec3 d, Sampler& smp, Hit& h, Hit& shadow,
              PrimarySample* first = nullptr) const {
     Vec3 L, throughput{1, 1, 1};
     bool primary = first != nullptr;  // the next hit is the camera ray's
@@ -269,7 +270,7 @@ struct PathTracer::Impl {
     };
     while (bounces < settings.maxDepth) {
       smp.startBounce(bounces);
-      intersect(o, d, 1e30, leaving, leavingPrim, log, h);
+      intersect(o, d, 1e30, leaving, leavingPrim, h);
       if (chain) recordHit(h, d, primary, *first);
       if (h.kind != Hit::None) travelled += h.t;
       const int medium = stack.top(materials);
@@ -298,7 +299,7 @@ struct PathTracer::Impl {
             }
             Real u1, u2;
             smp.next2D(u1, u2);
-            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, log, shadow)));
+            add(mul(throughput, directLight(p, nullptr, -1, 0, stack, u1, u2, shadow)));
             indirect = true;
             lightCounted = true;
             newSegment(p);
@@ -347,7 +348,7 @@ struct PathTracer::Impl {
         const Vec3 albedo = m ? m->colour : tableAlbedo(h.p, d, indirect ? 0 : pixelSpread * travelled, settings.checkerSize);
         closeChain(albedo);
         if (dot(d, h.ng) > 0) h.ng = -h.ng, h.ns = -h.ns;  // face the incoming ray
-        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, log, shadow)), false);
+        add(mul(throughput, diffuseBounce(h, albedo, o, d, stack, smp, shadow)), false);
         leaving = m ? h.material : -1;
         leavingPrim = h.prim;
         indirect = true;
@@ -365,7 +366,7 @@ struct PathTracer::Impl {
       MediumStack after = stack;
       if (entering) after.push(h.material);
       else after.remove(h.material);
-      const bool group = crossCoincident(h, d, after, log) > 0;
+      const bool group = crossCoincident(h, d, after) > 0;
       const int beyond = after.top(materials);  // the medium past the interface
       // Leaving a volume is real when it is the medium, or when the ray was never known to be in
       // it; a group of coincident faces, when the medium changes across it.
@@ -410,7 +411,7 @@ struct PathTracer::Impl {
           const Real coneCos = std::cos(settings.regularise * M_PI / 180);
           Real u1, u2;
           smp.next2D(u1, u2);
-          add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, log, shadow, &next, coneCos)),
+          add(mul(throughput, directLight(h.p, nullptr, h.material, h.prim, stack, u1, u2, shadow, &next, coneCos)),
               false);
           smp.next2D(u1, u2);
           const Vec3 blurred = sampleCone(next, coneCos, u1, u2);
@@ -432,13 +433,13 @@ struct PathTracer::Impl {
   }
 
   Vec3 diffuseBounce(const Hit& h, const Vec3& albedo, Vec3& o, Vec3& d, const MediumStack& stack, Sampler& smp,
-                     RayLog& log, Hit& scratch) const {
+                     Hit& scratch) const {
     // Meshes: start on the surface and skip it (see SkipContext); the analytic floor: offset.
     const bool mesh = h.kind == Hit::Mesh;
     const Vec3 p = mesh ? h.p : h.p + h.ng * epsilon;
     Real u1, u2;
     smp.next2D(u1, u2);
-    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, log, scratch));
+    const Vec3 direct = mul(albedo, directLight(p, &h.ns, mesh ? h.material : -1, h.prim, stack, u1, u2, scratch));
     o = p;
     smp.next2D(u1, u2);
     d = cosineHemisphere(h.ns, u1, u2);
@@ -496,6 +497,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
     RayLog log{0, record ? &recorded.local() : nullptr};
     Hit hit, shadow;
+    hit.log = shadow.log = &log;  // the hits carry it, so the integrator's methods need not
     for (int y = rows.begin(); y < rows.end(); ++y) {
       for (int x = 0; x < s.width; ++x) {
         Vec3 sum;
@@ -511,7 +513,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           if (im.blur) hit.time = shadow.time = float(smp.get1D(Sampler::kTimePair));
           const Vec3 d = im.camera.direction(x + jx, y + jy);
           PrimarySample first;
-          Vec3 c = im.trace(s.cameraPosition, d, smp, log, hit, shadow, aovs ? &first : nullptr);
+          Vec3 c = im.trace(s.cameraPosition, d, smp, hit, shadow, aovs ? &first : nullptr);
           if (!isFinite(c)) c = {};
           sum += c;
           if (aovs) aov.add(first, c);

@@ -15,6 +15,13 @@
 
 namespace mf::render {
 
+/// One thread's tally while tracing: the rays cast (RenderStats), and every ray where `record`
+/// is set (bench/render_bench replays them for bare traversal).
+struct RayLog {
+  uint64_t rays = 0;
+  std::vector<RecordedRay>* record = nullptr;
+};
+
 struct Hit {
   enum Kind { None, Mesh, Floor, Light } kind = None;
   Real t = 0;
@@ -22,6 +29,7 @@ struct Hit {
   unsigned prim = 0;  // the triangle (meshes)
   float u = 0, v = 0;  // barycentric coordinates on it (meshes)
   float time = 0;      // where in the shutter the ray is cast, [0, 1) (set by the caller; 0 without blur)
+  RayLog* log = nullptr;  // where RayScene counts the ray (set by the caller, like time; null: not counted)
   Vec3 p, ng, ns;  // point, geometric normal (outward of the material), shading normal
 };
 
@@ -60,13 +68,6 @@ inline RTCRayHit makeRay(float ox, float oy, float oz, float dx, float dy, float
   return rh;
 }
 
-/// One thread's tally while tracing: the rays cast (RenderStats), and every ray where `record`
-/// is set (bench/render_bench replays them for bare traversal).
-struct RayLog {
-  uint64_t rays = 0;
-  std::vector<RecordedRay>* record = nullptr;
-};
-
 class RayScene {
  public:
   /// Geometry id g is surfaces[g]. The ray offset is relative to the surfaces' bounding box.
@@ -86,7 +87,7 @@ class RayScene {
   /// A face of a geometry not among `skip` (count of them) within an epsilon either side of p,
   /// along the line p + t d: a face coincident with the one at p, which float rounding may put
   /// just behind p. Fills hit.material, prim, ng (unit) and t (from p); false when none.
-  MF_INLINE bool coincident(const Vec3& p, const Vec3& d, const int* skip, int count, RayLog& log, Hit& hit) const {
+  MF_INLINE bool coincident(const Vec3& p, const Vec3& d, const int* skip, int count, Hit& hit) const {
     SkipSetContext c;
     rtcInitIntersectContext(&c.context);
     c.context.filter = skipSetFilter;
@@ -97,7 +98,7 @@ class RayScene {
                            float(2 * epsilon_));
     rh.ray.time = hit.time;
     rtcIntersect1(scene_, &c.context, &rh);
-    ++log.rays;
+    if (hit.log) ++hit.log->rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.kind = Hit::Mesh;
     hit.t = rh.ray.tfar - epsilon_;
@@ -111,8 +112,8 @@ class RayScene {
 
   /// The nearest triangle along o + t d, t in (0, tfar): hit.kind Mesh (t, material, prim, ng,
   /// and with `shading` the interpolated normal ns) or None; `leaving`: the geometry o lies on,
-  /// or -1. Counts the ray in `log`, and records it where the log keeps rays.
-  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, RayLog& log, Hit& hit, bool shading) const {
+  /// or -1. Counts the ray in hit.log, and records it where the log keeps rays.
+  MF_INLINE void intersect(const Vec3& o, const Vec3& d, Real tfar, int leaving, unsigned leavingPrim, Hit& hit, bool shading) const {
     hit.kind = Hit::None;
     hit.material = -1;
     SkipContext skip;
@@ -130,9 +131,11 @@ class RayScene {
     RTCRayHit rh = makeRay(float(o.x), float(o.y), float(o.z), float(d.x), float(d.y), float(d.z), tnear,
                            float(std::min(tfar, 1e30)));
     rh.ray.time = hit.time;
-    if (log.record) log.record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
+    RayLog* log = hit.log;
+    if (log && log->record)
+      log->record->push_back({{rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z}, tnear, rh.ray.tfar});
     rtcIntersect1(scene_, &skip.context, &rh);
-    ++log.rays;
+    if (log) ++log->rays;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     hit.kind = Hit::Mesh;
     hit.t = rh.ray.tfar;
