@@ -12,10 +12,10 @@ namespace mf {
 
 namespace {
 constexpr Real kRelaxation = 0.5;
-// The constant-density solve also goes on while one particle is compressed by more than this many
-// tolerances (1 % density at the default 0.05 %): the mean alone let a lone splash particle reach a wall with its
-// compression unresolved (one clamp in the dam break; none at 20, 24.7 % peak instead of 28.5 %,
-// 10 % more iterations).
+// The constant-density solve also goes on while one particle is compressed by more than this
+// many tolerances (1 % density at the default 0.05 %): the mean alone let a lone splash particle
+// reach a wall with its compression unresolved (one clamp in the dam break; none at 20, 24.7 %
+// peak instead of 28.5 %, 10 % more iterations).
 constexpr Real kWorstError = 20;
 }
 
