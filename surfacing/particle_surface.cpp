@@ -15,7 +15,6 @@
 #include "bilateral_filter.h"
 #include "bodies.h"
 #include "redistance.h"
-#include "sim/solids.h"
 
 namespace mf::surfacing {
 

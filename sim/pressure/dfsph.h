@@ -22,10 +22,10 @@
 // step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
 // them), iterate at least twice, and stop when the mean density error is below
 // `density_tolerance` (relative) and the mean divergence error times dt below
-// `divergence_tolerance`, and (constant density) no particle's error is over 20 tolerances. Where a particle still
-// ends a move compressed past `solver.max_compression`, the simulation solves again at the
-// positions reached (solveCompression) and redoes the move. Sums over particles run in fixed
-// blocks, so the bits do not depend on the number of threads.
+// `divergence_tolerance`; the constant-density solve also while one particle's error is over 20
+// tolerances. Where a particle still ends a move compressed past `solver.max_compression`, the
+// simulation solves again at the positions reached (solveCompression) and redoes the move. Sums
+// over particles run in fixed blocks, so the bits do not depend on the number of threads.
 #pragma once
 
 #include <string>
