@@ -12,38 +12,53 @@ Aovs::Aovs(int w, int h, std::vector<std::string> masks)
       motion(size_t(w) * h * 2, 0.0f),
       maskNames(std::move(masks)), mask(size_t(w) * h * maskNames.size(), 0.0f) {}
 
-namespace {
-double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-}  // namespace
-
-void AovPixel::add(const PrimarySample& s, const Vec3& radiance) {
-  ++n_;
-  albedo_ += s.albedo;
-  normal_ += s.normal;
-  if (s.depth >= 0) depth_ += s.depth, ++hits_;
-  if (s.mask >= 0 && size_t(s.mask) < mask_.size()) mask_[s.mask] += 1;
-  if (s.moved) motion_[0] += s.motion[0], motion_[1] += s.motion[1], ++moved_;
-  const double l = luminance(radiance);
-  lum_ += l, lum2_ += l * l;
+void LuminanceMoments::add(const Vec3& c) {
+  const double l = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+  sum += l, sum2 += l * l, ++n;
 }
 
-void AovPixel::store(Aovs& out, int x, int y) const {
-  if (n_ == 0) return;
-  const size_t p = size_t(y) * out.width + x;
-  const Vec3 a = albedo_ / Real(n_);
-  const Real len = std::sqrt(dot(normal_, normal_));
-  const Vec3 nrm = len > 0 ? normal_ / len : Vec3{};
+double LuminanceMoments::varianceOfMean() const {
+  if (n < 2) return 0;
+  const double mean = sum / n;
+  return std::max(0.0, (sum2 - n * mean * mean) / (n - 1)) / n;
+}
+
+AovAccumulator::AovAccumulator(Aovs& out) : out_(out), hits_(out.pixels(), 0), moved_(out.pixels(), 0) {
+  std::fill(out.depth.begin(), out.depth.end(), 0.0f);
+}
+
+void AovAccumulator::add(size_t p, const PrimarySample& s) {
   for (int c = 0; c < 3; ++c) {
-    out.albedo[3 * p + c] = float(a[c]);
-    out.normal[3 * p + c] = float(nrm[c]);
+    out_.albedo[3 * p + c] += float(s.albedo[c]);
+    out_.normal[3 * p + c] += float(s.normal[c]);
   }
-  // The mean over the samples that hit something: at a silhouette, the nearer surface's.
-  out.depth[p] = hits_ ? float(depth_ / hits_) : std::numeric_limits<float>::infinity();
-  // The variance of the mean: the samples' (unbiased) variance over their count.
-  const double mean = lum_ / n_;
-  out.variance[p] = n_ > 1 ? float(std::max(0.0, (lum2_ - n_ * mean * mean) / (n_ - 1)) / n_) : 0.0f;
-  for (size_t m = 0; m < mask_.size(); ++m) out.mask[p * mask_.size() + m] = float(mask_[m] / n_);
-  for (int c = 0; c < 2; ++c) out.motion[2 * p + c] = moved_ ? float(motion_[c] / moved_) : 0.0f;
+  if (s.depth >= 0) out_.depth[p] += float(s.depth), ++hits_[p];
+  const size_t masks = out_.maskNames.size();
+  if (s.mask >= 0 && size_t(s.mask) < masks) out_.mask[p * masks + s.mask] += 1;
+  if (s.moved) out_.motion[2 * p] += float(s.motion[0]), out_.motion[2 * p + 1] += float(s.motion[1]), ++moved_[p];
+}
+
+void AovAccumulator::finish(const std::vector<LuminanceMoments>& moments) {
+  const size_t masks = out_.maskNames.size();
+  for (size_t p = 0; p < out_.pixels(); ++p) {
+    const uint32_t n = moments[p].n;
+    if (n == 0) {
+      out_.depth[p] = std::numeric_limits<float>::infinity();
+      continue;
+    }
+    float* a = &out_.albedo[3 * p];
+    float* nrm = &out_.normal[3 * p];
+    const double len = std::sqrt(double(nrm[0]) * nrm[0] + double(nrm[1]) * nrm[1] + double(nrm[2]) * nrm[2]);
+    for (int c = 0; c < 3; ++c) {
+      a[c] = float(a[c] / double(n));
+      nrm[c] = len > 0 ? float(nrm[c] / len) : 0.0f;
+    }
+    // The mean over the samples that hit something: at a silhouette, the nearer surface's.
+    out_.depth[p] = hits_[p] ? float(out_.depth[p] / double(hits_[p])) : std::numeric_limits<float>::infinity();
+    out_.variance[p] = float(moments[p].varianceOfMean());
+    for (size_t m = 0; m < masks; ++m) out_.mask[p * masks + m] = float(out_.mask[p * masks + m] / double(n));
+    for (int c = 0; c < 2; ++c) out_.motion[2 * p + c] = moved_[p] ? float(out_.motion[2 * p + c] / double(moved_[p])) : 0.0f;
+  }
 }
 
 void writeFrameExr(const std::string& path, const Image& beauty, const Image* noisy, const Aovs& aovs) {

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -46,19 +47,29 @@ struct PrimarySample {
   double motion[2] = {0, 0};  // pixels
 };
 
-/// Sums a pixel's samples in order (the same bits on any thread count) and writes the means.
-class AovPixel {
+/// A pixel's luminance over its samples, summed in order: the variance of its mean (the AOV
+/// `variance`) and the noise that adaptive sampling allocates by.
+struct LuminanceMoments {
+  double sum = 0, sum2 = 0;
+  uint32_t n = 0;
+  void add(const Vec3& radiance);
+  /// The samples' (unbiased) variance over their count; 0 below two samples.
+  double varianceOfMean() const;
+};
+
+/// Sums every pixel's primary samples in place, in the Aovs' own buffers (a pixel's samples in
+/// order, over any number of passes: the same bits on any thread count), then turns the sums
+/// into the means.
+class AovAccumulator {
  public:
-  explicit AovPixel(size_t masks) : mask_(masks, 0.0) {}
-  void add(const PrimarySample& s, const Vec3& radiance);
-  void store(Aovs& out, int x, int y) const;
+  explicit AovAccumulator(Aovs& out);
+  void add(size_t pixel, const PrimarySample& s);
+  /// The means over each pixel's moments[p].n samples, and the variance from its moments.
+  void finish(const std::vector<LuminanceMoments>& moments);
 
  private:
-  size_t n_ = 0, hits_ = 0, moved_ = 0;
-  double motion_[2] = {0, 0};
-  Vec3 albedo_, normal_;
-  double depth_ = 0, lum_ = 0, lum2_ = 0;
-  std::vector<double> mask_;
+  Aovs& out_;
+  std::vector<uint32_t> hits_, moved_;
 };
 
 /// The frame as one EXR: R,G,B (the image shipped: denoised where `noisy` is given),

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <optional>
 
 #include "camera.h"
 #include "lights.h"
@@ -482,6 +483,59 @@ void PathTracer::setNextFrame(const RenderSettings& next, double interval) {
   impl_->frameInterval = interval;
 }
 
+namespace {
+
+/// One sample's spread of luminance over sqrt(L^2 + 0.01): a pixel's noise as the bench's rel
+/// RMSE weighs it.
+double relativeSpread(const LuminanceMoments& m) {
+  if (m.n < 2) return 0;
+  const double mean = m.sum / m.n;
+  return std::sqrt(m.varianceOfMean() * m.n / (mean * mean + 0.01));
+}
+
+/// Sets end[p], the samples pixel p ends with, so that the image costs what `samples` per pixel
+/// would have (cost: the rays a pixel's samples cast, from the first pass). The samples left go to
+/// pixel p in proportion to w_p = sigma_p / (sqrt(L_p^2 + 0.01) sqrt(c_p)) (sigma: the spread
+/// of one sample's luminance, c: one sample's rays), the allocation that minimises the summed
+/// relative variance at that cost; w is the largest over the pixel and its 8 neighbours, so that
+/// one lucky first pass does not starve an edge. Each pixel gets at most `cap`. Serial and in
+/// pixel order, the fractions carried: the same on any thread count.
+void allocateSamples(const std::vector<LuminanceMoments>& moments, const std::vector<uint64_t>& rays, int width, int height,
+                     int samples, int cap, std::vector<int>& end) {
+  const size_t pixels = moments.size();
+  std::vector<double> noise(pixels), weight(pixels), cost(pixels);
+  double used = 0, budget = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    cost[p] = moments[p].n ? std::max(1.0, double(rays[p]) / moments[p].n) : 1.0;
+    noise[p] = relativeSpread(moments[p]) / std::sqrt(cost[p]);
+    used += double(rays[p]), budget += samples * cost[p];
+  }
+  double sum = 0;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double w = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int u = std::clamp(x + dx, 0, width - 1), v = std::clamp(y + dy, 0, height - 1);
+          w = std::max(w, noise[size_t(v) * width + u]);
+        }
+      const size_t p = size_t(y) * width + x;
+      weight[p] = w, sum += w * cost[p];
+    }
+  const double extra = std::max(0.0, budget - used);
+  double carry = 0;
+  for (size_t p = 0; p < pixels; ++p) {
+    const double want = sum > 0 ? extra * weight[p] / sum : 0;
+    const double exact = want + carry;
+    const int have = int(moments[p].n);
+    const int more = std::min(std::max(0, int(std::floor(exact))), std::max(0, cap - have));
+    carry = exact - more;
+    end[p] = have + more;
+  }
+}
+
+}  // namespace
+
 Image PathTracer::render(int frame, RenderStats* stats, const std::function<void(int, int)>& progress,
                          std::vector<RecordedRay>* record, Aovs* aovs) const {
   const Impl& im = *impl_;
@@ -494,41 +548,68 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   std::atomic<int> rowsDone{0};
   std::mutex progressMutex;
   // One row per task: pixels are independent, so the schedule cannot change any value.
-  tbb::parallel_for(tbb::blocked_range<int>(0, s.height, 1), [&](const tbb::blocked_range<int>& rows) {
-    RayLog log{0, record ? &recorded.local() : nullptr};
-    Hit hit, shadow;
-    hit.log = shadow.log = &log;  // the hits carry it, so the integrator's methods need not
-    for (int y = rows.begin(); y < rows.end(); ++y) {
-      for (int x = 0; x < s.width; ++x) {
-        Vec3 sum;
-        AovPixel aov(aovs ? im.maskNames.size() : 0);
-        // The frame is part of the pixel's seed only with animated_seed (see docs/rendering.md).
-        const uint64_t seed = Sampler::pixelSeed(x, y, s.animatedSeed ? uint64_t(frame) + 1 : 0);
-        for (int k = 0; k < s.samples; ++k) {
-          Sampler smp(seed, uint32_t(k), !s.sobol);
-          Real jx, jy;
-          smp.get2D(0, jx, jy);
-          // The sample's moment in the shutter, shared by every ray of its path; a pair of its
-          // own, so frames without blur keep their bits.
-          if (im.blur) hit.time = shadow.time = float(smp.get1D(Sampler::kTimePair));
-          const Vec3 d = im.camera.direction(x + jx, y + jy);
-          PrimarySample first;
-          Vec3 c = im.trace(s.cameraPosition, d, smp, hit, shadow, aovs ? &first : nullptr);
-          if (!isFinite(c)) c = {};
-          sum += c;
-          if (aovs) aov.add(first, c);
+  // Adaptive sampling: a first pass gives every pixel its share of the samples; the rest go
+  // where that pass's relative noise is largest (see allocateSamples).
+  const int width = s.width, height = s.height;
+  const size_t pixels = size_t(width) * height;
+  const bool adaptive = s.adaptive > 0 && s.samples >= 4;
+  const int firstPass = adaptive ? std::max(2, int(std::lround(s.samples * (1 - s.adaptive)))) : s.samples;
+  std::vector<LuminanceMoments> moments(pixels);
+  std::vector<uint64_t> pixelRays(pixels, 0);
+  std::optional<AovAccumulator> aovSums;
+  if (aovs) aovSums.emplace(*aovs);
+  std::vector<int> begin(pixels, 0), end(pixels, firstPass);
+  auto pass = [&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
+      RayLog log{0, record ? &recorded.local() : nullptr};
+      Hit hit, shadow;
+      hit.log = shadow.log = &log;  // the hits carry it, so the integrator's methods need not
+      for (int y = rows.begin(); y < rows.end(); ++y) {
+        for (int x = 0; x < width; ++x) {
+          const size_t p = size_t(y) * width + x;
+          // The frame is part of the pixel's seed only with animated_seed (see docs/rendering.md).
+          const uint64_t seed = Sampler::pixelSeed(x, y, s.animatedSeed ? uint64_t(frame) + 1 : 0);
+          const uint64_t raysBefore = log.rays;
+          Vec3 sum;
+          for (int k = begin[p]; k < end[p]; ++k) {
+            Sampler smp(seed, uint32_t(k), !s.sobol);
+            Real jx, jy;
+            smp.get2D(0, jx, jy);
+            // The sample's moment in the shutter, shared by every ray of its path; a pair of its
+            // own, so frames without blur keep their bits.
+            if (im.blur) hit.time = shadow.time = float(smp.get1D(Sampler::kTimePair));
+            const Vec3 d = im.camera.direction(x + jx, y + jy);
+            PrimarySample first;
+            Vec3 c = im.trace(s.cameraPosition, d, smp, hit, shadow, aovs ? &first : nullptr);
+            if (!isFinite(c)) c = {};
+            sum += c;
+            moments[p].add(c);
+            if (aovs) aovSums->add(p, first);
+          }
+          image.set(x, y, image.at(x, y) + sum);  // the pass's sum; the mean is taken at the end
+          pixelRays[p] += log.rays - raysBefore;
         }
-        image.set(x, y, sum / Real(s.samples));
-        if (aovs) aov.store(*aovs, x, y);
+        const int done = ++rowsDone;
+        if (progress) {
+          std::lock_guard<std::mutex> lock(progressMutex);
+          progress(done, adaptive ? 2 * height : height);
+        }
       }
-      const int done = ++rowsDone;
-      if (progress) {
-        std::lock_guard<std::mutex> lock(progressMutex);
-        progress(done, s.height);
-      }
+      rays.local() += log.rays;
+    });
+  };
+  pass();
+  if (adaptive) {
+    allocateSamples(moments, pixelRays, width, height, s.samples, s.samples * 8, end);
+    for (size_t p = 0; p < pixels; ++p) begin[p] = firstPass;
+    pass();
+  }
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const uint32_t n = moments[size_t(y) * width + x].n;
+      image.set(x, y, n ? image.at(x, y) / Real(n) : Vec3());
     }
-    rays.local() += log.rays;
-  });
+  if (aovs) aovSums->finish(moments);
   if (stats) {
     stats->rays = rays.combine(std::plus<uint64_t>());
     stats->seconds = std::chrono::duration<double>(Clock::now() - t0).count();

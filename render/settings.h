@@ -73,6 +73,7 @@ struct RenderSettings {
   Real regularise = 0;              // degrees: mirrors after a diffuse vertex blurred by this cone (0: off)
   Real shutter = 0;                 // motion blur: the shutter's open time, a fraction of the frame interval, centred on the frame (0: off)
   bool sobol = true;                // Owen-scrambled Sobol samples (false: independent random ones)
+  Real adaptive = 0.5;              // share of the samples placed by a first pass's noise (0: every pixel the same)
   bool mis = true;                  // light samples and lobe samples weighted by the power heuristic
   bool animatedSeed = false;        // the frame in the sampler's seed (noise changes every frame)
   bool denoise = true;              // the shipped frame filtered by render/denoise.h (the noisy one kept in the EXR)

@@ -258,6 +258,7 @@ RenderSettings readRenderSettings(scene_reading::SceneDocument& doc, const Scene
   if (o.shutter > 0 && !surfacing.velocity)
     r.problem(t.node("shutter"), "render.shutter", "motion blur needs the velocity grids: set surfacing.velocity = true");
   o.sobol = t.boolean("sobol", o.sobol);
+  o.adaptive = t.number("adaptive", o.adaptive, 0, 0.9, "(share of the samples)");
   o.mis = t.boolean("mis", o.mis);
   o.animatedSeed = t.boolean("animated_seed", o.animatedSeed);
   o.denoise = t.boolean("denoise", o.denoise);

@@ -38,12 +38,14 @@ struct Synthetic {
 /// the depth can find, with light 0.6..1.0 (a gradient in x) above and 0.25..0.35 below (a
 /// shadow). Each of 8 samples per pixel is the clean value times (1 + 0.9 g), g a standard normal
 /// per channel: relative noise 0.32 in the mean, more than the renderer's 8-spp rel RMSE of
-/// 0.13-0.15 on its bench scenes. The AOVs come from the renderer's own accumulator (AovPixel).
+/// 0.13-0.15 on its bench scenes. The AOVs come from the renderer's own accumulator.
 Synthetic synthetic(uint32_t seed) {
   Synthetic s{Image(kW, kH), Image(kW, kH), Aovs(kW, kH, {"fluid"})};
   std::mt19937 rng(seed);
   auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
   auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
+  render::AovAccumulator acc(s.aovs);
+  std::vector<render::LuminanceMoments> moments(size_t(kW) * kH);
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const Vec3 albedo = x < kW / 2 ? Vec3{0.7, 0.35, 0.2} : Vec3{0.15, 0.4, 0.8};
@@ -52,17 +54,18 @@ Synthetic synthetic(uint32_t seed) {
       const Vec3 clean = albedo * light;
       render::PrimarySample ps;
       ps.albedo = albedo, ps.normal = {0, 0, 1}, ps.depth = near ? 1.0 : 3.0, ps.mask = near ? 0 : -1;
-      render::AovPixel acc(1);
+      const size_t p = size_t(y) * kW + x;
       Vec3 sum;
       for (int k = 0; k < kSpp; ++k) {
         const Vec3 c{clean.x * (1 + 0.9 * normal()), clean.y * (1 + 0.9 * normal()), clean.z * (1 + 0.9 * normal())};
-        acc.add(ps, c);
+        acc.add(p, ps);
+        moments[p].add(c);
         sum += c;
       }
-      acc.store(s.aovs, x, y);
       s.clean.set(x, y, clean);
       s.noisy.set(x, y, sum / kSpp);
     }
+  acc.finish(moments);
   return s;
 }
 

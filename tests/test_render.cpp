@@ -2,6 +2,7 @@
 // is behind it; absorption follows Beer-Lambert), bit-identical images on any thread count, and
 // frame-diff tests against small golden images of canned inputs. Set MULTIFLUID_UPDATE_GOLDEN=1
 // to write the golden images again (on purpose, after a deliberate change).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <openvdb/tools/LevelSetSphere.h>
 #include <openvdb/tools/LevelSetPlatonic.h>
@@ -117,6 +118,65 @@ Image waterBallInGlass(const std::vector<std::string>& overrides = {}, int frame
   surfaces.push_back({"water", render::levelSetMesh(*sphere(0.045, {0, 0.05f, 0})), sc.render.phaseMaterials[0]});
   for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
   return PathTracer(std::move(surfaces), sc.render).render(frame);
+}
+
+/// Canned input 2: a wax blob (a scattering medium) in the lava lamp's fluid, lit from below.
+Image waxBlobInLamp(const std::vector<std::string>& overrides = {}, int frame = 0, render::RenderStats* stats = nullptr) {
+  const char* text = R"(
+[scene]
+name = "lamp"
+end_time = 1
+frame_rate = 1
+domain_min = [-0.2, -0.1, -0.2]
+domain_max = [0.2, 1.3, 0.2]
+[solver]
+particle_spacing = 0.02
+[[phase]]
+name = "fluid"
+rest_density = 500.0
+[[phase]]
+name = "wax"
+rest_density = 1000.0
+[[solid]]
+name = "vessel"
+shape = "revolution"
+base = [0.0, 0.0, 0.0]
+profile = [[0.0, 0.13], [0.35, 0.17], [0.8, 0.15], [1.15, 0.10]]
+[[fluid]]
+phase = "fluid"
+min = [-0.1, 0.0, -0.1]
+max = [0.1, 0.9, 0.1]
+[effects.gravity]
+[render]
+width = 90
+height = 160
+samples = 64
+camera_position = [0.0, 0.6, 2.2]
+look_at = [0.0, 0.55, 0.0]
+fov = 34
+sky_zenith = [0.05, 0.05, 0.08]
+sky_horizon = [0.1, 0.1, 0.12]
+light_position = [0.0, -0.12, 0.0]
+light_radius = 0.08
+light_emission = [60.0, 50.0, 30.0]
+checker_size = 0.0
+[render.material.fluid]
+ior = 1.34
+absorption = [0.3, 0.6, 0.2]
+[render.material.wax]
+kind = "medium"
+ior = 1.44
+absorption = [2.0, 30.0, 40.0]
+scattering = 150.0
+[render.material.vessel]
+thickness = 0.006
+)";
+  const SceneStages sc = parseSceneStages(text, "lamp", overrides);
+  std::vector<Surface> surfaces;
+  auto blob = sphere(0.09, {0.02f, 0.45f, 0}, 0.004f);
+  surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
+  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
+  return PathTracer(std::move(surfaces), sc.render).render(frame, stats);
 }
 
 }  // namespace
@@ -383,60 +443,46 @@ priority = 20
 
 TEST(RenderGolden, WaxBlobInLamp) {
   // A translucent scattering wax blob in the lamp's clear fluid, lit from below by the bulb.
-  const char* text = R"(
-[scene]
-name = "lamp"
-end_time = 1
-frame_rate = 1
-domain_min = [-0.2, -0.1, -0.2]
-domain_max = [0.2, 1.3, 0.2]
-[solver]
-particle_spacing = 0.02
-[[phase]]
-name = "fluid"
-rest_density = 500.0
-[[phase]]
-name = "wax"
-rest_density = 1000.0
-[[solid]]
-name = "vessel"
-shape = "revolution"
-base = [0.0, 0.0, 0.0]
-profile = [[0.0, 0.13], [0.35, 0.17], [0.8, 0.15], [1.15, 0.10]]
-[[fluid]]
-phase = "fluid"
-min = [-0.1, 0.0, -0.1]
-max = [0.1, 0.9, 0.1]
-[effects.gravity]
-[render]
-width = 90
-height = 160
-samples = 64
-camera_position = [0.0, 0.6, 2.2]
-look_at = [0.0, 0.55, 0.0]
-fov = 34
-sky_zenith = [0.05, 0.05, 0.08]
-sky_horizon = [0.1, 0.1, 0.12]
-light_position = [0.0, -0.12, 0.0]
-light_radius = 0.08
-light_emission = [60.0, 50.0, 30.0]
-checker_size = 0.0
-[render.material.fluid]
-ior = 1.34
-absorption = [0.3, 0.6, 0.2]
-[render.material.wax]
-kind = "medium"
-ior = 1.44
-absorption = [2.0, 30.0, 40.0]
-scattering = 150.0
-[render.material.vessel]
-thickness = 0.006
-)";
-  const SceneStages sc = parseSceneStages(text, "lamp");
-  std::vector<Surface> surfaces;
-  auto blob = sphere(0.09, {0.02f, 0.45f, 0}, 0.004f);
-  surfaces.push_back({"wax", render::levelSetMesh(*blob), sc.render.phaseMaterials[1]});
-  for (auto& s : render::solidSurfaces(sc.scene, sc.render)) surfaces.push_back(std::move(s));
-  const auto d = checkGolden("wax_blob_in_lamp", PathTracer(std::move(surfaces), sc.render).render(0));
+  const auto d = checkGolden("wax_blob_in_lamp", waxBlobInLamp());
   EXPECT_TRUE(d.passes(1.0)) << d.failedPercent() << " % of pixels differ by more than 0.016 (max " << d.maxError << ")";
+}
+
+double relativeRmse(const Image& x, const Image& r) {
+  double sum = 0;
+  for (size_t i = 0; i < r.rgb.size(); ++i) {
+    const double d = double(x.rgb[i]) - r.rgb[i];
+    sum += d * d / (double(r.rgb[i]) * r.rgb[i] + 0.01);
+  }
+  return std::sqrt(sum / r.rgb.size());
+}
+
+TEST(Render, AdaptiveSamplingLowersTheErrorAtTheSameRayCount) {
+  // The lamp's wax blob at 8 samples per pixel, 16 independent noise patterns (animated_seed,
+  // frames 0-15), against 1 024 samples: render.adaptive = 0.5 (half the samples placed by the
+  // first half's relative noise and cost) casts the same rays and leaves less error. Measured:
+  // rel RMSE 0.123 against 0.165 (mean squared error 0.56 times), rays -0.4 %; the means of the
+  // 16 renders 0.030 and 0.038. Bounds: MSE at most 0.7 times (render_noise_bench, over 64
+  // renders against its 4 096-sample reference, measures 0.35), rays within 3 %, and the mean
+  // of the renders no further from the reference than the uniform renders' mean: the
+  // allocation reads the samples it adds to, and leaves no bias that shows.
+  const Image reference = waxBlobInLamp({"render.samples=1024", "render.adaptive=0", "render.denoise=false"});
+  constexpr int kRenders = 16;
+  double mse[2] = {0, 0};
+  uint64_t rays[2] = {0, 0};
+  Image mean[2] = {Image(reference.width, reference.height), Image(reference.width, reference.height)};
+  for (int a = 0; a < 2; ++a)
+    for (int frame = 0; frame < kRenders; ++frame) {
+      render::RenderStats stats;
+      const Image im = waxBlobInLamp({"render.samples=8", a ? "render.adaptive=0.5" : "render.adaptive=0",
+                                      "render.animated_seed=true"}, frame, &stats);
+      mse[a] += std::pow(relativeRmse(im, reference), 2) / kRenders;
+      rays[a] += stats.rays;
+      for (size_t i = 0; i < im.rgb.size(); ++i) mean[a].rgb[i] += im.rgb[i] / kRenders;
+    }
+  fmt::print("8 spp rel RMSE: uniform {:.4f}, adaptive {:.4f}; rays {} and {}; mean of the renders: {:.4f} and {:.4f}\n",
+             std::sqrt(mse[0]), std::sqrt(mse[1]), rays[0], rays[1], relativeRmse(mean[0], reference),
+             relativeRmse(mean[1], reference));
+  EXPECT_LT(mse[1], 0.7 * mse[0]);
+  EXPECT_NEAR(double(rays[1]) / double(rays[0]), 1.0, 0.03);
+  EXPECT_LT(relativeRmse(mean[1], reference), relativeRmse(mean[0], reference));
 }
