@@ -499,7 +499,7 @@ double relativeSpread(const LuminanceMoments& m) {
 /// of one sample's luminance, c: one sample's rays), the allocation that minimises the summed
 /// relative variance at that cost; w is the largest over the pixel and its 8 neighbours, so that
 /// one lucky first pass does not starve an edge. Each pixel gets at most `cap`. Serial and in
-/// pixel order, the fractions carried: the same on any thread count.
+/// pixel order, the rounding carried: the same on any thread count.
 void allocateSamples(const std::vector<LuminanceMoments>& moments, const std::vector<uint64_t>& rays, int width, int height,
                      int samples, int cap, std::vector<int>& end) {
   const size_t pixels = moments.size();
@@ -527,10 +527,10 @@ void allocateSamples(const std::vector<LuminanceMoments>& moments, const std::ve
   for (size_t p = 0; p < pixels; ++p) {
     const double want = sum > 0 ? extra * weight[p] / sum : 0;
     const double exact = want + carry;
-    const int have = int(moments[p].n);
-    const int more = std::min(std::max(0, int(std::floor(exact))), std::max(0, cap - have));
-    carry = exact - more;
-    end[p] = have + more;
+    const int have = int(moments[p].n), whole = int(std::floor(exact));
+    // Only the rounding is carried on: what the cap holds back is not spent on the next pixel.
+    carry = exact - whole;
+    end[p] = have + std::min(whole, std::max(0, cap - have));
   }
 }
 
