@@ -12,6 +12,7 @@
 #include <mutex>
 #include <optional>
 
+#include "adaptive_sampling.h"
 #include "camera.h"
 #include "lights.h"
 #include "media.h"
@@ -482,59 +483,6 @@ void PathTracer::setNextFrame(const RenderSettings& next, double interval) {
   impl_->nextCamera = Camera(next);
   impl_->frameInterval = interval;
 }
-
-namespace {
-
-/// One sample's spread of luminance over sqrt(L^2 + 0.01): a pixel's noise as the bench's rel
-/// RMSE weighs it.
-double relativeSpread(const LuminanceMoments& m) {
-  if (m.n < 2) return 0;
-  const double mean = m.sum / m.n;
-  return std::sqrt(m.varianceOfMean() * m.n / (mean * mean + 0.01));
-}
-
-/// Sets end[p], the samples pixel p ends with, so that the image costs what `samples` per pixel
-/// would have (cost: the rays a pixel's samples cast, from the first pass). The samples left go to
-/// pixel p in proportion to w_p = sigma_p / (sqrt(L_p^2 + 0.01) sqrt(c_p)) (sigma: the spread
-/// of one sample's luminance, c: one sample's rays), the allocation that minimises the summed
-/// relative variance at that cost; w is the largest over the pixel and its 8 neighbours, so that
-/// one lucky first pass does not starve an edge. Each pixel gets at most `cap`. Serial and in
-/// pixel order, the rounding carried: the same on any thread count.
-void allocateSamples(const std::vector<LuminanceMoments>& moments, const std::vector<uint64_t>& rays, int width, int height,
-                     int samples, int cap, std::vector<int>& end) {
-  const size_t pixels = moments.size();
-  std::vector<double> noise(pixels), weight(pixels), cost(pixels);
-  double used = 0, budget = 0;
-  for (size_t p = 0; p < pixels; ++p) {
-    cost[p] = moments[p].n ? std::max(1.0, double(rays[p]) / moments[p].n) : 1.0;
-    noise[p] = relativeSpread(moments[p]) / std::sqrt(cost[p]);
-    used += double(rays[p]), budget += samples * cost[p];
-  }
-  double sum = 0;
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      double w = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int u = std::clamp(x + dx, 0, width - 1), v = std::clamp(y + dy, 0, height - 1);
-          w = std::max(w, noise[size_t(v) * width + u]);
-        }
-      const size_t p = size_t(y) * width + x;
-      weight[p] = w, sum += w * cost[p];
-    }
-  const double extra = std::max(0.0, budget - used);
-  double carry = 0;
-  for (size_t p = 0; p < pixels; ++p) {
-    const double want = sum > 0 ? extra * weight[p] / sum : 0;
-    const double exact = want + carry;
-    const int have = int(moments[p].n), whole = int(std::floor(exact));
-    // Only the rounding is carried on: what the cap holds back is not spent on the next pixel.
-    carry = exact - whole;
-    end[p] = have + std::min(whole, std::max(0, cap - have));
-  }
-}
-
-}  // namespace
 
 Image PathTracer::render(int frame, RenderStats* stats, const std::function<void(int, int)>& progress,
                          std::vector<RecordedRay>* record, Aovs* aovs) const {

@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "render/adaptive_sampling.h"
 #include "render/path_tracer.h"
 #include "render/sampler.h"
 #include "pipeline/scene_stages.h"
@@ -454,6 +455,38 @@ double relativeRmse(const Image& x, const Image& r) {
     sum += d * d / (double(r.rgb[i]) * r.rgb[i] + 0.01);
   }
   return std::sqrt(sum / r.rgb.size());
+}
+
+TEST(Render, AdaptiveAllocationGoesToTheNoiseAndKeepsTheBudget) {
+  // A row of 6 pixels after a first pass of 4 samples, one ray each: pixel 0 saw 0, 1, 0, 1,
+  // the rest 0.5 four times (no spread). At 8 samples per pixel the budget is 48 rays, 24 spent:
+  // the other 24 go to pixel 0 and its neighbour 1 (the 3x3 maximum), 12 each.
+  std::vector<render::LuminanceMoments> moments(6);
+  for (size_t p = 0; p < 6; ++p)
+    for (int k = 0; k < 4; ++k) moments[p].add(p == 0 ? Vec3{1, 1, 1} * Real(k % 2) : Vec3{0.5, 0.5, 0.5});
+  const std::vector<uint64_t> rays(6, 4);
+  std::vector<int> end(6, 4);
+  render::allocateSamples(moments, rays, 6, 1, 8, 64, end);
+  EXPECT_EQ(end, (std::vector<int>{16, 16, 4, 4, 4, 4}));
+  // Capped at 6 samples, pixels 0 and 1 get 2 more each, and what the cap holds back is not
+  // spent on the pixels after them.
+  render::allocateSamples(moments, rays, 6, 1, 8, 6, end);
+  EXPECT_EQ(end, (std::vector<int>{6, 6, 4, 4, 4, 4}));
+  // A pixel whose samples cost 4 times as many rays gets half the samples (w ~ 1/sqrt(cost))
+  // and spends twice the rays: pixels 0-1 noisy at 1 ray a sample, 4-5 at 4; 2-3 quiet.
+  std::vector<render::LuminanceMoments> two(6);
+  for (size_t p = 0; p < 6; ++p)
+    for (int k = 0; k < 4; ++k) two[p].add(p == 0 || p == 5 ? Vec3{1, 1, 1} * Real(k % 2) : Vec3{0.5, 0.5, 0.5});
+  const std::vector<uint64_t> costly = {4, 4, 4, 4, 16, 16};
+  render::allocateSamples(two, costly, 6, 1, 8, 64, end);
+  const int extraCheap = end[0] - 4, extraDear = end[5] - 4;
+  EXPECT_EQ(end[2], 4);
+  EXPECT_EQ(end[3], 4);
+  EXPECT_NEAR(double(extraCheap) / extraDear, 2.0, 0.2);
+  double spent = 0;
+  for (size_t p = 0; p < 6; ++p) spent += double(end[p]) * costly[p] / 4;
+  EXPECT_LE(spent, 8.0 * (4 * 1 + 2 * 4));  // the budget: 8 samples at each pixel's cost
+  EXPECT_GE(spent, 8.0 * (4 * 1 + 2 * 4) - 4);
 }
 
 TEST(Render, AdaptiveSamplingLowersTheErrorAtTheSameRayCount) {
