@@ -5,11 +5,17 @@
 
 namespace mf::render {
 
+namespace {
+
+/// One sample's spread of luminance over sqrt(L^2 + 0.01): a pixel's noise as the bench's rel
+/// RMSE weighs it.
 double relativeSpread(const LuminanceMoments& m) {
   if (m.n < 2) return 0;
   const double mean = m.sum / m.n;
   return std::sqrt(m.varianceOfMean() * m.n / (mean * mean + 0.01));
 }
+
+}  // namespace
 
 void allocateSamples(const std::vector<LuminanceMoments>& moments, const std::vector<uint64_t>& rays, int width, int height,
                      int samples, int cap, std::vector<int>& end) {

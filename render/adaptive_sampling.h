@@ -9,10 +9,6 @@
 
 namespace mf::render {
 
-/// One sample's spread of luminance over sqrt(L^2 + 0.01): a pixel's noise as the bench's rel
-/// RMSE weighs it.
-double relativeSpread(const LuminanceMoments& m);
-
 /// Sets end[p], the samples pixel p ends with, so that the image costs what `samples` per pixel
 /// would have (cost: the rays a pixel's samples cast, from the first pass). The samples left go to
 /// pixel p in proportion to w_p = sigma_p / (sqrt(L_p^2 + 0.01) sqrt(c_p)) (sigma: the spread

@@ -506,7 +506,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   std::vector<uint64_t> pixelRays(pixels, 0);
   std::optional<AovAccumulator> aovSums;
   if (aovs) aovSums.emplace(*aovs);
-  std::vector<int> begin(pixels, 0), end(pixels, firstPass);
+  std::vector<int> end(pixels, firstPass);  // each pass takes a pixel from its moments' count to here
   auto pass = [&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, height, 1), [&](const tbb::blocked_range<int>& rows) {
       RayLog log{0, record ? &recorded.local() : nullptr};
@@ -519,7 +519,7 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
           const uint64_t seed = Sampler::pixelSeed(x, y, s.animatedSeed ? uint64_t(frame) + 1 : 0);
           const uint64_t raysBefore = log.rays;
           Vec3 sum;
-          for (int k = begin[p]; k < end[p]; ++k) {
+          for (int k = int(moments[p].n), last = end[p]; k < last; ++k) {
             Sampler smp(seed, uint32_t(k), !s.sobol);
             Real jx, jy;
             smp.get2D(0, jx, jy);
@@ -549,7 +549,6 @@ Image PathTracer::render(int frame, RenderStats* stats, const std::function<void
   pass();
   if (adaptive) {
     allocateSamples(moments, pixelRays, width, height, s.samples, s.samples * 8, end);
-    for (size_t p = 0; p < pixels; ++p) begin[p] = firstPass;
     pass();
   }
   for (int y = 0; y < height; ++y)
