@@ -2,8 +2,8 @@
 // as production renderers resolve overlapping volumes), Fresnel reflection and refraction,
 // Beer-Lambert absorption, a homogeneous scattering medium for wax, diffuse table and walls,
 // a spherical area light sampled directly and a sky. Embree 3 finds the hits; TBB runs rows.
-// This is the integrator and the image loop; the camera, sampler, lights, media and the ray
-// scene are their own units beside it (docs/rendering.md).
+// This is the image loop around the integrator (integrator.h); the camera, sampler, lights,
+// media and the ray scene are their own units beside them (docs/rendering.md).
 //
 // Deterministic: each pixel sample's values are Owen-scrambled Sobol points keyed by (pixel,
 // sample, dimension) (render/sampler.h; the frame too with render.animated_seed), and pixels are
@@ -21,6 +21,8 @@
 #include "settings.h"
 
 namespace mf::render {
+
+struct Integrator;
 
 struct RenderStats {
   uint64_t rays = 0;          // every ray cast into the scene (camera, bounce, shadow)
@@ -60,8 +62,7 @@ class PathTracer {
   size_t triangleCount() const;
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<Integrator> impl_;
 };
 
 /// The scene's solids as glass (or what their material says) and the render stage's props,
