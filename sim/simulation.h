@@ -111,6 +111,11 @@ class Simulation {
   /// Neighbour lists (unless `search` is false: the lists of the last search are kept), density,
   /// and the solver's diagonal at the current positions.
   void searchAndDensity(bool search = true);
+  /// The density and the solver's diagonal again where a move of the `moved` particles (sorted
+  /// indices) changed them, over the last search's lists: the moved particles and their neighbours.
+  void densityNear(const std::vector<uint32_t>& moved);
+  /// Particle i's density (and volume) over the current lists.
+  void densityOf(size_t i, const PeriodicDomain& periodic);
   void computePressure();
   void accumulateForces();
   Real chooseDt() const;
@@ -152,6 +157,9 @@ class Simulation {
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Vec3> savedPosition_, savedVelocity_;  // watchdog snapshot
   std::vector<Vec3> compressionVelocity_;            // DFSPH's second pass on compression
+  std::vector<uint32_t> compressionMoved_;           // the particles that pass moves
+  std::vector<char> near_;                           // densityNear's scratch
+  std::vector<uint32_t> nearList_;
   Real time_ = 0;
   uint64_t nextId_ = 0;
   SimulationCounters counters_;

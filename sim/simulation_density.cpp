@@ -28,56 +28,80 @@ void Simulation::searchAndDensity(bool search) {
   }
   const auto t1 = Clock::now();
   times_.neighborSearch += std::chrono::duration<double>(t1 - t0).count();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) densityOf(i, periodic);
+  });
+  if (dfsph_) dfsph_->computeDiagonal(context(), ps_);
+  times_.density += since(t1);
+}
+
+void Simulation::densityNear(const std::vector<uint32_t>& moved) {
+  const auto t0 = Clock::now();
+  listsStale_ = true;
+  // The particles whose density the move changed: the moved ones and their neighbours, in
+  // index order (the lists are symmetric, so nobody else has a moved neighbour).
+  const size_t n = ps_.size();
+  near_.assign(n, 0);
+  for (uint32_t i : moved) {
+    near_[i] = 1;
+    for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) near_[fluidNeighbors_.indices[k]] = 1;
+  }
+  nearList_.clear();
+  for (size_t i = 0; i < n; ++i)
+    if (near_[i]) nearList_.push_back(uint32_t(i));
+  const PeriodicDomain periodic = scene_.periodic();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, nearList_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t q = r.begin(); q != r.end(); ++q) densityOf(nearList_[q], periodic);
+  });
+  if (dfsph_) dfsph_->computeDiagonal(context(), ps_, &nearList_);
+  times_.density += since(t0);
+}
+
+void Simulation::densityOf(size_t i, const PeriodicDomain& periodic) {
   const bool numberDensity = scene_.solver.density == DensityFormulation::Number;
   const bool complete = scene_.solver.freeSurfaceCompletion;
   const SphKernels& K = kernels_;
   const Real w0 = K.selfWeight;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 xi = ps_.position[i];
-      Real fluidSum = 0;  // sum_j m_j W_ij, or sum_j W_ij for number density
-      Real filled = 0;    // sum_j V0_j W_ij (rest volumes V0 = m / rho0; walls as fluid)
-      Vec3 moment;        // sum_j V0_j (x_j - x_i) W_ij
-      for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
-        const uint32_t j = fluidNeighbors_.indices[k];
-        const Vec3 rji = periodic.separation(ps_.position[j], xi);
-        const Real w = K.densityChecked(lengthSquared(rji));
-        fluidSum += numberDensity ? w : ps_.mass[j] * w;
-        if (complete) {
-          const Real vw = ps_.mass[j] / ps_.restDensity[j] * w;
-          filled += vw;
-          moment += rji * vw;
-        }
-      }
-      Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
-      for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
-        const uint32_t b = boundaryNeighbors_.indices[k];
-        const Vec3 rbi = periodic.separation(boundary_.position[b], xi);
-        const Real vw = boundary_.volume[b] * K.densityChecked(lengthSquared(rbi));
-        wallSum += vw;
-        if (complete) moment += rbi * vw;
-      }
-      const Real mi = ps_.mass[i], rho0 = ps_.restDensity[i];
-      // Free-surface completion: the part of the kernel a plane surface cuts off, counted as
-      // rest-density fluid (as the walls are). Without it the outer layer reads 13-27 % below
-      // rho0 on the lattice, has no pressure (clamped) and packs under any inward force.
-      Real missing = 0;
-      if (complete) {
-        filled += wallSum + mi / rho0 * w0;
-        missing = surfaceMissing_(length(moment) / (filled * K.h));
-      }
-      if (numberDensity) {
-        const Real delta = fluidSum + w0 + (wallSum + missing) * rho0 / mi;
-        ps_.density[i] = mi * delta;
-        ps_.volume[i] = 1.0 / delta;
-      } else {
-        ps_.density[i] = fluidSum + mi * w0 + rho0 * (wallSum + missing);
-        ps_.volume[i] = mi / ps_.density[i];
-      }
+  const Vec3 xi = ps_.position[i];
+  Real fluidSum = 0;  // sum_j m_j W_ij, or sum_j W_ij for number density
+  Real filled = 0;    // sum_j V0_j W_ij (rest volumes V0 = m / rho0; walls as fluid)
+  Vec3 moment;        // sum_j V0_j (x_j - x_i) W_ij
+  for (uint64_t k = fluidNeighbors_.begin(i), e = fluidNeighbors_.end(i); k < e; ++k) {
+    const uint32_t j = fluidNeighbors_.indices[k];
+    const Vec3 rji = periodic.separation(ps_.position[j], xi);
+    const Real w = K.densityChecked(lengthSquared(rji));
+    fluidSum += numberDensity ? w : ps_.mass[j] * w;
+    if (complete) {
+      const Real vw = ps_.mass[j] / ps_.restDensity[j] * w;
+      filled += vw;
+      moment += rji * vw;
     }
-  });
-  if (dfsph_) dfsph_->computeDiagonal(context(), ps_);
-  times_.density += since(t1);
+  }
+  Real wallSum = 0;  // sum_b V_b W_ib (Akinci 2012): the wall counts as rest-density fluid
+  for (uint64_t k = boundaryNeighbors_.begin(i), e = boundaryNeighbors_.end(i); k < e; ++k) {
+    const uint32_t b = boundaryNeighbors_.indices[k];
+    const Vec3 rbi = periodic.separation(boundary_.position[b], xi);
+    const Real vw = boundary_.volume[b] * K.densityChecked(lengthSquared(rbi));
+    wallSum += vw;
+    if (complete) moment += rbi * vw;
+  }
+  const Real mi = ps_.mass[i], rho0 = ps_.restDensity[i];
+  // Free-surface completion: the part of the kernel a plane surface cuts off, counted as
+  // rest-density fluid (as the walls are). Without it the outer layer reads 13-27 % below
+  // rho0 on the lattice, has no pressure (clamped) and packs under any inward force.
+  Real missing = 0;
+  if (complete) {
+    filled += wallSum + mi / rho0 * w0;
+    missing = surfaceMissing_(length(moment) / (filled * K.h));
+  }
+  if (numberDensity) {
+    const Real delta = fluidSum + w0 + (wallSum + missing) * rho0 / mi;
+    ps_.density[i] = mi * delta;
+    ps_.volume[i] = 1.0 / delta;
+  } else {
+    ps_.density[i] = fluidSum + mi * w0 + rho0 * (wallSum + missing);
+    ps_.volume[i] = mi / ps_.density[i];
+  }
 }
 
 }  // namespace mf

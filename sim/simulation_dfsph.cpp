@@ -94,16 +94,17 @@ Real Simulation::stepDfsph(Real maxDt) {
     for (int pass = 0; pass < kCompressionPasses && density.converged && ps_.largestCompression() > scene_.solver.maxCompression;
          ++pass) {
       const auto c0 = Clock::now();
-      const PressureSolveStats correction = dfsph_->solveCompression(context(), ps_, dt, compressionVelocity_);
+      const PressureSolveStats correction = dfsph_->solveCompression(context(), ps_, dt, compressionVelocity_, compressionMoved_);
       times_.pressure += since(c0);
       counters_.pressureIterations += uint64_t(correction.iterations);
       ++counters_.compressionPasses;
-      for (size_t i = 0; i < ps_.size(); ++i) ps_.velocity[i] += compressionVelocity_[i];
+      for (uint32_t i : compressionMoved_) ps_.velocity[i] += compressionVelocity_[i];
       advect(dt, savedPosition_);
       // The correction moves particles by a small part of a spacing: the move's neighbour lists
       // still hold every pair that matters (a pair entering the support adds a kernel value and
-      // gradient that vanish at h to second order), so the density is summed over them again.
-      searchAndDensity(false);
+      // gradient that vanish at h to second order), so the density is summed over them again,
+      // where the correction moved something.
+      densityNear(compressionMoved_);
     }
     const auto t1 = Clock::now();
     const PressureSolveStats divergence = dfsph_->solveDivergence(context(), ps_, dt);

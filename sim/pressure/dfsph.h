@@ -22,10 +22,12 @@
 // step's pressures (warm start, kept in the particles so that re-sorting and checkpoints carry
 // them), iterate at least twice, and stop when the mean density error is below
 // `density_tolerance` (relative) and the mean divergence error times dt below
-// `divergence_tolerance`; the constant-density solve also while one particle's error is over 20
-// tolerances. Where a particle still ends a move compressed past `solver.max_compression`, the
-// simulation solves again at the positions reached (solveCompression) and redoes the move. Sums
-// over particles run in fixed blocks, so the bits do not depend on the number of threads.
+// `divergence_tolerance`. The few particles whose predicted compression is then still over 20
+// tolerances are taken by sweeps over their own neighbourhood (sweepWorst), not over the whole
+// fluid. Where a particle still ends a move compressed past `solver.max_compression`, the
+// simulation solves again, locally, at the positions reached (solveCompression) and redoes the
+// move. Sums over particles run in fixed blocks and the local sweeps' regions are built in index
+// order, so the bits do not depend on the number of threads.
 #pragma once
 
 #include <string>
@@ -59,6 +61,8 @@ class DfsphSolver {
   /// D_i of the current positions, and the pairs' kernel gradients the solves reuse; call after
   /// every neighbour search and density pass.
   void computeDiagonal(const StepContext& ctx, const ParticleSet& ps);
+  /// The same for the listed particles only (after a move of some of them).
+  void computeDiagonal(const StepContext& ctx, const ParticleSet& ps, const std::vector<uint32_t>* only);
   /// Corrects the predicted velocities ps.velocity so that positions advanced by dt are at rest
   /// density; the pressure used stays in ps.pressure (Pa).
   PressureSolveStats solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt);
@@ -70,12 +74,25 @@ class DfsphSolver {
   /// step on theta(x) = 1. The solve above is linear in the move, and underestimates a close
   /// approach (a jet into a wall corner leaves a particle tens of per cent compressed). Finds a
   /// velocity change u, from pressures dp >= 0 that start at zero, with theta + dt d(theta)/dt(u)
-  /// = 1, and returns it in `u`; ps.velocity and ps.pressure are left as they were.
-  PressureSolveStats solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u);
+  /// = 1 where a particle is compressed past the worst bound, and returns it in `u`;
+  /// ps.velocity and ps.pressure are left as they were. The solve is local: its unknowns are the
+  /// particles past the bound and their neighbours (a handful of the fluid: the mean error is
+  /// the first solve's), so its sweeps run over those and the velocities they change, and
+  /// `moved` lists the latter (sorted); u is zero elsewhere.
+  PressureSolveStats solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u,
+                                      std::vector<uint32_t>& moved);
 
   const DfsphSettings& settings() const { return settings_; }
 
  private:
+  /// Projected Jacobi on the particles whose error (theta + dt d(theta)/dt of `velocity`, minus
+  /// 1; `initialError(i)` before the first sweep) is past `worst`, and their neighbours: the
+  /// unknowns' pressures `p` (>= lower_) change the velocities of the unknowns and their
+  /// neighbours, listed in `moved`, and nothing else, so each sweep costs what that
+  /// neighbourhood costs. Until no unknown is past `worst`; the sweeps add to stats.iterations.
+  template <class InitialError>
+  void sweepWorst(const StepContext& ctx, const ParticleSet& ps, std::vector<Real>& p, std::vector<Vec3>& velocity, Real dt,
+                  Real worst, InitialError&& initialError, std::vector<uint32_t>& moved, PressureSolveStats& stats);
   /// Where a solve stops: the mean error, and the worst particle's.
   struct Tolerance {
     Real mean, worst;
@@ -120,6 +137,9 @@ class DfsphSolver {
   std::vector<char> active_;
   std::vector<Vec3> scratchVelocity_;
   std::vector<Real> correctionPressure_;
+  std::vector<char> region_;  // sweepWorst's region: 3 past the bound, 2 unknown, 1 moved by them
+  std::vector<uint32_t> unknowns_, worstMoved_;
+  std::vector<Real> localError_;
   std::vector<Real> diagonal_, rate_, delta_;
   std::vector<Real> lower_;  // the least pressure each particle may hold (0, or -p_ref)
   // V grad W per neighbour pair, from computeDiagonal, in single precision: the sweeps stream
