@@ -146,7 +146,7 @@ struct SolverSettings {
   int maxPressureIterations = 100;
   // DFSPH: a step that leaves a particle compressed by more than this (relative) repeats the
   // constant-density solve at the positions it reached, up to three times.
-  Real maxCompression = 0.05;
+  Real maxCompression = 0.01;
   // DFSPH's linear iteration: conjugate gradients on the active set, or projected Jacobi.
   bool conjugateGradient = true;
   Real particleSpacing = 0.01;      // m, lattice spacing of seeded fluid

@@ -340,14 +340,14 @@ void DfsphSolver::sweepWorst(const StepContext& ctx, const ParticleSet& ps, std:
   }
 }
 
-PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u,
-                                                 std::vector<uint32_t>& moved) {
+PressureSolveStats DfsphSolver::solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, Real target,
+                                                 std::vector<Vec3>& u, std::vector<uint32_t>& moved) {
   const size_t n = ps.size();
   u.assign(n, Vec3());
   correctionPressure_.assign(n, 0);
   lower_.assign(n, 0);
   PressureSolveStats stats;
-  sweepWorst(ctx, ps, correctionPressure_, u, dt, densityTolerance().worst,
+  sweepWorst(ctx, ps, correctionPressure_, u, dt, target,
              [&](size_t i) { return ps.density[i] / ps.restDensity[i] - 1; }, moved, stats);
   return stats;
 }

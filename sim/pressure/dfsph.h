@@ -73,13 +73,13 @@ class DfsphSolver {
   /// The constant-density solve once more, at the positions the move reached: one Gauss-Newton
   /// step on theta(x) = 1. The solve above is linear in the move, and underestimates a close
   /// approach (a jet into a wall corner leaves a particle tens of per cent compressed). Finds a
-  /// velocity change u, from pressures dp >= 0 that start at zero, with theta + dt d(theta)/dt(u)
-  /// = 1 where a particle is compressed past the worst bound, and returns it in `u`;
+  /// velocity change u, from pressures dp >= 0 that start at zero, that leaves no particle's
+  /// theta + dt d(theta)/dt(u) - 1 over `target`, and returns it in `u`;
   /// ps.velocity and ps.pressure are left as they were. The solve is local: its unknowns are the
-  /// particles past the bound and their neighbours (a handful of the fluid: the mean error is
+  /// particles past the target and their neighbours (a handful of the fluid: the mean error is
   /// the first solve's), so its sweeps run over those and the velocities they change, and
   /// `moved` lists the latter (sorted); u is zero elsewhere.
-  PressureSolveStats solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, std::vector<Vec3>& u,
+  PressureSolveStats solveCompression(const StepContext& ctx, ParticleSet& ps, Real dt, Real target, std::vector<Vec3>& u,
                                       std::vector<uint32_t>& moved);
 
   const DfsphSettings& settings() const { return settings_; }
