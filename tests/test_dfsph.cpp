@@ -197,9 +197,12 @@ TEST(Dfsph, DamBreakNeedsNoWallClamp) {
   EXPECT_EQ(sim.counters().wallClamps, 0u);
   EXPECT_EQ(sim.particles().size(), 8192u);
   // The linear solve alone left a particle 24.7 % compressed where the front meets the walls;
-  // the passes at the moved positions hold solver.max_compression (5 %), measured 4.92 % in
-  // 214 passes. 1.5 % over the bound allows for the rare step whose third pass still leaves more.
-  EXPECT_LT(sim.counters().maxDensityError, 0.065);
+  // the passes at the moved positions hold solver.max_compression (1 %). 0.5 % over the bound
+  // allows for the rare step whose fifth pass still leaves more (at the 5 % bound and three
+  // passes: 4.92 %).
+  fmt::print("dam break: worst compression after a step {:.3f} %, {} compression passes\n",
+             100 * sim.counters().maxDensityError, sim.counters().compressionPasses);
+  EXPECT_LT(sim.counters().maxDensityError, 0.015);
   EXPECT_GT(sim.counters().compressionPasses, 0u);
 }
 
