@@ -31,27 +31,27 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
   fluidGrad_.resize(ctx.fluidNeighbors.indices.size());
   wallGrad_.resize(ctx.boundaryNeighbors.indices.size());
   auto one = [&](size_t i) {
-  const Vec3 xi = ps.position[i];
-  Vec3 grad, gradB;
-  Real others = 0;
-  for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
-    const uint32_t j = ctx.fluidNeighbors.indices[k];
-    const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
-    const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
-    const Real Vj = ps.mass[j] / ps.restDensity[j];
-    const Vec3 gv = g * Vj;
-    fluidGrad_[k] = GradF::of(gv);
-    grad += gv;
-    others += Vj * lengthSquared(g) / ps.restDensity[j];
-  }
-  for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-    const uint32_t b = ctx.boundaryNeighbors.indices[k];
-    const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
-    const Vec3 gv = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
-    wallGrad_[k] = GradF::of(gv);
-    gradB += gv;
-  }
-  diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
+    const Vec3 xi = ps.position[i];
+    Vec3 grad, gradB;
+    Real others = 0;
+    for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
+      const uint32_t j = ctx.fluidNeighbors.indices[k];
+      const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
+      const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
+      const Real Vj = ps.mass[j] / ps.restDensity[j];
+      const Vec3 gv = g * Vj;
+      fluidGrad_[k] = GradF::of(gv);
+      grad += gv;
+      others += Vj * lengthSquared(g) / ps.restDensity[j];
+    }
+    for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+      const uint32_t b = ctx.boundaryNeighbors.indices[k];
+      const Vec3 rib = ctx.periodic.separation(xi, ctx.boundary.position[b]);
+      const Vec3 gv = K.pressureGrad(rib, lengthSquared(rib)) * ctx.boundary.volume[b];
+      wallGrad_[k] = GradF::of(gv);
+      gradB += gv;
+    }
+    diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
   };
   const size_t count = only ? only->size() : n;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
