@@ -20,8 +20,6 @@ constexpr Real kRelaxation = 0.5;
 constexpr Real kWorstError = 20;
 }
 
-void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps) { computeDiagonal(ctx, ps, nullptr); }
-
 void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps, const std::vector<uint32_t>* only) {
   const size_t n = ps.size();
   const SphKernels& K = ctx.kernels;
@@ -59,43 +57,55 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
   });
 }
 
+inline Real DfsphSolver::rateOf(const StepContext& ctx, const std::vector<Vec3>& velocity, size_t i) const {
+  const Vec3 vi = velocity[i];
+  Real sum = 0;
+  for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
+    const Vec3 d = vi - velocity[ctx.fluidNeighbors.indices[k]];
+    sum += dot(d, fluidGrad_[k].vec());
+  }
+  for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+    sum += dot(vi, wallGrad_[k].vec());
+  }
+  return sum;
+}
+
+inline Vec3 DfsphSolver::velocityChange(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
+                                        size_t i) const {
+  const Real pi = p[i];
+  Vec3 acc;
+  for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
+    const Real pij = pi + p[ctx.fluidNeighbors.indices[k]];
+    acc += fluidGrad_[k].vec() * pij;
+  }
+  if (pi != 0)
+    for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+      acc += wallGrad_[k].vec() * pi;
+    }
+  return acc * (dt / ps.restDensity[i]);
+}
+
+inline Real DfsphSolver::jacobiPressure(size_t i, Real p, Real error, Real stepScale) const {
+  // Projected, relaxed Jacobi: the pressure stays >= lower_ (0: a free surface pulls nothing) and
+  // can fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
+  // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
+  return diagonal_[i] > 0 ? std::max(lower_[i], p + kRelaxation * error * stepScale / diagonal_[i]) : lower_[i];
+}
+
 void DfsphSolver::densityRate(const StepContext& ctx, const std::vector<Vec3>& velocity, std::vector<Real>& rate) const {
   const size_t n = velocity.size();
   rate.resize(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Vec3 vi = velocity[i];
-      Real sum = 0;
-      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
-        const Vec3 d = vi - velocity[ctx.fluidNeighbors.indices[k]];
-        sum += dot(d, fluidGrad_[k].vec());
-      }
-      for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-        sum += dot(vi, wallGrad_[k].vec());
-      }
-      rate[i] = sum;
-    }
+    for (size_t i = r.begin(); i != r.end(); ++i) rate[i] = rateOf(ctx, velocity, i);
   });
 }
 
 void DfsphSolver::applyPressure(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
                                 std::vector<Vec3>& velocity) const {
   const size_t n = ps.size();
+  // Velocities are read (positions only) and written per particle: no race.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Real pi = p[i];
-      Vec3 acc;
-      for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
-        const Real pij = pi + p[ctx.fluidNeighbors.indices[k]];
-        acc += fluidGrad_[k].vec() * pij;
-      }
-      if (pi != 0)
-        for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-          acc += wallGrad_[k].vec() * pi;
-        }
-      // Velocities are read (positions only) and written per particle: no race.
-      velocity[i] -= acc * (dt / ps.restDensity[i]);
-    }
+    for (size_t i = r.begin(); i != r.end(); ++i) velocity[i] -= velocityChange(ctx, ps, p, dt, i);
   });
 }
 
@@ -117,12 +127,9 @@ PressureSolveStats DfsphSolver::iterate(const StepContext& ctx, ParticleSet& ps,
   Real previous = 0;
   for (int it = 0; it < settings_.maxIterations; ++it) {
     densityRate(ctx, ps.velocity, rate_);
-    // Projected, relaxed Jacobi: the pressure stays >= 0 (a free surface pulls nothing) and can
-    // fall as well as rise, so a warm start that overshoots is undone; the half step keeps the
-    // checkerboard mode of the SPH Laplacian from growing (IISPH's omega = 0.5).
     const Real sum = blockSum(n, [&](size_t i) {
       const Real err = error(i);
-      const Real next = diagonal_[i] > 0 ? std::max(lower_[i], p[i] + kRelaxation * err * stepScale / diagonal_[i]) : lower_[i];
+      const Real next = jacobiPressure(i, p[i], err, stepScale);
       delta_[i] = next - p[i];
       // The error left: compression anywhere, and expansion where a pressure still pushes.
       return (next > lower_[i] ? std::fabs(err) : std::max(err, Real(0))) * errorScale;
@@ -275,7 +282,6 @@ void DfsphSolver::sweepWorst(const StepContext& ctx, const ParticleSet& ps, std:
                              PressureSolveStats& stats) {
   const size_t n = ps.size();
   const NeighborLists& nf = ctx.fluidNeighbors;
-  const NeighborLists& nb = ctx.boundaryNeighbors;
   // The region, in index order: 3 past the bound, 2 their neighbours (with 3, the unknowns), 1
   // the neighbours of those (their velocities change too).
   region_.assign(n, 0);
@@ -302,11 +308,7 @@ void DfsphSolver::sweepWorst(const StepContext& ctx, const ParticleSet& ps, std:
     tbb::parallel_for(tbb::blocked_range<size_t>(0, m, kGrain), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t q = r.begin(); q != r.end(); ++q) {
         const uint32_t i = unknowns_[q];
-        const Vec3 vi = velocity[i];
-        Real rate = 0;
-        for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) rate += dot(vi - velocity[nf.indices[k]], fluidGrad_[k].vec());
-        for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) rate += dot(vi, wallGrad_[k].vec());
-        localError_[q] = ps.density[i] / ps.restDensity[i] + dt * rate - 1;
+        localError_[q] = ps.density[i] / ps.restDensity[i] + dt * rateOf(ctx, velocity, i) - 1;
       }
     });
     const Real largest = parallelMax(m, [&](size_t q) { return localError_[q]; });
@@ -316,26 +318,17 @@ void DfsphSolver::sweepWorst(const StepContext& ctx, const ParticleSet& ps, std:
       return;
     }
     ++stats.iterations;
-    // Projected, relaxed Jacobi as in iterate().
     tbb::parallel_for(tbb::blocked_range<size_t>(0, m, kGrain), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t q = r.begin(); q != r.end(); ++q) {
         const uint32_t i = unknowns_[q];
-        const Real next = diagonal_[i] > 0 ? std::max(lower_[i], p[i] + kRelaxation * localError_[q] * stepScale / diagonal_[i]) : lower_[i];
+        const Real next = jacobiPressure(i, p[i], localError_[q], stepScale);
         delta_[i] = next - p[i];
         p[i] = next;
       }
     });
     // velocity_i -= dt a_i(delta): nonzero only on the unknowns and their neighbours.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, moved.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t q = r.begin(); q != r.end(); ++q) {
-        const uint32_t i = moved[q];
-        const Real di = delta_[i];
-        Vec3 acc;
-        for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) acc += fluidGrad_[k].vec() * (di + delta_[nf.indices[k]]);
-        if (di != 0)
-          for (uint64_t k = nb.begin(i), e = nb.end(i); k < e; ++k) acc += wallGrad_[k].vec() * di;
-        velocity[i] -= acc * (dt / ps.restDensity[i]);
-      }
+      for (size_t q = r.begin(); q != r.end(); ++q) velocity[moved[q]] -= velocityChange(ctx, ps, delta_, dt, moved[q]);
     });
   }
 }

@@ -60,9 +60,8 @@ class DfsphSolver {
 
   /// D_i of the current positions, and the pairs' kernel gradients the solves reuse; call after
   /// every neighbour search and density pass.
-  void computeDiagonal(const StepContext& ctx, const ParticleSet& ps);
-  /// The same for the listed particles only (after a move of some of them).
-  void computeDiagonal(const StepContext& ctx, const ParticleSet& ps, const std::vector<uint32_t>* only);
+  /// `only`: the listed particles alone (after a move of some of them).
+  void computeDiagonal(const StepContext& ctx, const ParticleSet& ps, const std::vector<uint32_t>* only = nullptr);
   /// Corrects the predicted velocities ps.velocity so that positions advanced by dt are at rest
   /// density; the pressure used stays in ps.pressure (Pa).
   PressureSolveStats solveDensity(const StepContext& ctx, ParticleSet& ps, Real dt);
@@ -103,11 +102,16 @@ class DfsphSolver {
   Real densityError(const ParticleSet& ps, Real dt, size_t i) const {
     return ps.density[i] / ps.restDensity[i] + dt * rate_[i] - 1;
   }
-  /// d theta_i / dt of the current velocities (fluid pairs and walls).
+  /// d theta_i / dt of `velocity` (fluid pairs and walls), for particle i; densityRate for all.
+  Real rateOf(const StepContext& ctx, const std::vector<Vec3>& velocity, size_t i) const;
   void densityRate(const StepContext& ctx, const std::vector<Vec3>& velocity, std::vector<Real>& rate) const;
-  /// velocity_i -= dt a_i for the pressure field `p` (the acceleration above).
+  /// dt a_i for the pressure field `p` (the acceleration above); applyPressure subtracts it from
+  /// every velocity.
+  Vec3 velocityChange(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt, size_t i) const;
   void applyPressure(const StepContext& ctx, const ParticleSet& ps, const std::vector<Real>& p, Real dt,
                      std::vector<Vec3>& velocity) const;
+  /// One projected, relaxed Jacobi update of particle i's pressure p for its error.
+  Real jacobiPressure(size_t i, Real p, Real error, Real stepScale) const;
   /// What both solves share: the warm start, then projected Jacobi, or (conjugateGradient)
   /// Jacobi sweeps while they converge fast and CG on the rest.
   template <class Error>
