@@ -132,6 +132,9 @@ int main(int argc, char** argv) {
       const FluidBodies fb = findBodies(fr.position.data(), fr.phase.data(), fr.size(), link * s);
       std::map<int32_t, size_t> count;
       for (int32_t p : fr.phase) ++count[p];
+      // A fluid with no particle left has nothing under a surface (its last frame's figures are not kept).
+      for (auto& [p, t] : totals)
+        if (!count.count(p)) t.lastUnderParticles = t.lastUnderBodies = 0;
       std::map<int32_t, PhaseFrame> now;
       std::string line = fmt::format("frame {:4d} t {:7.3f}", f, fr.info.time);
       for (const auto& [p, n] : count) {
