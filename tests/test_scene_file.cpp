@@ -141,6 +141,26 @@ TEST(SceneFile, HydrostaticReferenceNeedsGravity) {
   EXPECT_NE(p[0].message.find("has no effect without [effects.gravity]"), std::string::npos) << p[0].message;
 }
 
+// A reference that follows the content is measured per container, needs the liquid's density,
+// and does not read a fixed level: each mistake is an error naming its key.
+TEST(SceneFile, ReferenceFollowingTheContentNeedsAContainerAndADensity) {
+  auto problems = [&](const std::string& table, const std::string& solid) {
+    return problemsOf(replaceLine(kGood, "[effects.pressure]\n", "[effects.pressure]\n" + table) + solid);
+  };
+  const std::string glass = "[[solid]]\nshape = \"cylinder\"\nbase = [0.0, 0.0, 0.0]\nradius = 0.1\nheight = 0.3\n";
+  EXPECT_TRUE(problems("reference_density = 1000.0\nfollow_content = 1\n", glass).empty());
+  auto p = problems("reference_density = 1000.0\nfollow_content = 1\n", "");
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].key, "effects.pressure.follow_content");
+  EXPECT_NE(p[0].message.find("needs a container"), std::string::npos) << p[0].message;
+  p = problems("follow_content = 1\n", glass);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].message.find("needs reference_density"), std::string::npos) << p[0].message;
+  p = problems("reference_density = 1000.0\nreference_level = 0.2\nfollow_content = 1\n", glass);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].key, "effects.pressure.reference_level");
+}
+
 TEST(SceneFile, EmbeddedScenesAreValid) {
   const auto names = mf::embeddedSceneNames();
   ASSERT_GE(names.size(), 2u);

@@ -13,7 +13,8 @@
 // minus the gradient of the elastic energy of the SPH density and a closed box only loses
 // energy; solver.kernel = "muller2003" restores the papers' spiky gradient (sim/kernels.h).
 // Hydrostatic reference (reference_density > 0): the pair and wall sums use the perturbation
-// p' = p - p_ref with p_ref = rho_ref |g| (level - height) below `reference_level` (0 above),
+// p' = p - p_ref with p_ref = rho_ref |g| (level - height) below `reference_level` (0 above;
+// with follow_content, a level per container that follows its content, hydrostatic_reference.h),
 // and the exact -V_i grad p_ref = V_i rho_ref |g| (upward) is added as a body force. The sum is
 // the same momentum equation, rho a = -grad p' + (rho - rho_ref) g. Why: the pair sum's
 // p_i sum_j V_j grad W_ij term, zero only on a perfect lattice, gives the particle arrangement
@@ -80,6 +81,7 @@ class Pressure final : public Effect {
     if (correct_) computeCorrection(ctx, ps);
     const Mat3* L = correct_ ? correction_.data() : nullptr;
     if (ref_.active()) {
+      ref_.follow(ps, ctx.particleSpacing);
       perturbation_.resize(ps.size());
       submerged_.resize(ps.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
@@ -178,7 +180,8 @@ EffectInfo pressureInfo() {
           {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"},
            {"gradient_correction", 1, 0, 1, {0.0}, "", "1: symmetric kernel-gradient correction, exact for linear pressure fields (settled pressure error ~1 % instead of ~4 %, about 45 % more time per step); 0: plain kernel gradient"},
            {"reference_density", 1, 0, 1e5, {0.0}, "kg/m^3", "hydrostatic reference subtracted from the pressure in the pair forces and added back exactly as a body force (0: none); the densest liquid's rest density with reference_level where a column of it weighs what the liquids weigh keeps the remainder repulsive"},
-           {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface where the reference pressure is 0; it grows as rho_ref |g| depth below"}},
+           {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface where the reference pressure is 0; it grows as rho_ref |g| depth below"},
+           {"follow_content", 1, 0, 1, {0.0}, "", "1: each container's level follows what it holds, every step: where a column of the reference liquid would weigh the container's particles, less one spacing (a glass that fills or empties; reference_level is not read)", 0, true}},
           [](const EffectSpec& spec, const Scene& scene) {
             return std::make_unique<Pressure>(spec.number("wall_scale"), spec.number("gradient_correction") > 0.5,
                                               HydrostaticReference::of(spec, scene));
@@ -188,6 +191,14 @@ EffectInfo pressureInfo() {
     const EffectSpec* g = scene.effect("gravity");
     if (spec.number("reference_density") > 0 && (!g || lengthSquared(g->vector("acceleration")) == 0))
       problems.push_back({"reference_density", "has no effect without [effects.gravity] (a hydrostatic reference needs gravity)"});
+    if (spec.number("follow_content") > 0.5) {
+      if (spec.number("reference_density") == 0) problems.push_back({"follow_content", "needs reference_density > 0 (the liquid whose column is measured)"});
+      if (scene.solids.empty()) problems.push_back({"follow_content", "needs a container ([[solid]]): the level is measured per container"});
+      if (g && (g->vector("acceleration").x != 0 || g->vector("acceleration").z != 0))
+        problems.push_back({"follow_content", "needs gravity along -y (containers stand on the y axis)"});
+      if (spec.number("reference_level") != 0)
+        problems.push_back({"reference_level", "is not read with follow_content = 1 (the level follows the content): remove one of the two"});
+    }
     // A scene that names no solver runs on DFSPH, whose implicit solve is the pressure force:
     // WCSPH's keys there say the scene was written for the state equation.
     if (scene.solver.pressure == PressureSolverChoice::DFSPH && !scene.solver.pressureNamed) {

@@ -248,7 +248,8 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   auto error = [&](size_t i) { return densityError(ps, dt, i); };
   const size_t n = ps.size();
   lower_.assign(n, 0);
-  const HydrostaticReference& ref = settings_.reference;
+  HydrostaticReference& ref = settings_.reference;
+  ref.follow(ps, ctx.particleSpacing);
   // The full solve stops on the mean; the few particles still past the worst bound are then
   // taken by sweeps over their neighbourhood alone (sweepWorst).
   const Tolerance tolerance = densityTolerance(), mean{tolerance.mean, std::numeric_limits<Real>::infinity()};
