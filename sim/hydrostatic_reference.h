@@ -34,9 +34,15 @@ struct HydrostaticReference {
   /// How far below the level x lies: negative above it, and outside the containers.
   Real depth(const Vec3& x) const {
     const Real height = dot(x, up);
-    if (containers.empty()) return level - height;
-    for (size_t c = 0; c < containers.size(); ++c)
-      if (insideFluidRegion(containers[c], x)) return (followsContent ? levels[c] : level) - height;
+    if (followsContent) {
+      for (size_t c = 0; c < containers.size(); ++c)
+        if (insideFluidRegion(containers[c], x)) return levels[c] - height;
+      return -1;
+    }
+    const Real d = level - height;
+    if (d <= 0 || containers.empty()) return d;  // above the level, no container walk
+    for (const SolidSpec& s : containers)
+      if (insideFluidRegion(s, x)) return d;
     return -1;
   }
   Real pressure(const Vec3& x) const { return weight * std::max(Real(0), depth(x)); }
