@@ -197,9 +197,10 @@ TEST(HydrostaticReference, HeightHoldingInvertsTheContainersVolume) {
 // A lone air particle in the floor layer of 6 cm of water (5 mm spacing, the pour's fluids and
 // buoyancy). The pair sums' p_i sum_j V_j grad W_ij term gives the arrangement a rigidity
 // proportional to the pressure, largest at the floor: without a reference it stayed at 2.6 mm
-// for 1.5 s (measured). With the weight of the water taken out (the level following the
-// content), its buoyancy moves it: it must be above mid-depth within 0.5 s (a 6 mm bubble in
-// this 0.2 Pa s water rises at about 0.1-0.15 m/s, Hadamard-Rybczynski).
+// for 1.5 s (measured with bench/exp_cage on branch experiment/auto-reference). With the
+// weight of the water taken out (the level following the content), its buoyancy moves it: it
+// must be above mid-depth within 0.5 s (a 6 mm bubble in this 0.2 Pa s water rises at about
+// 0.1-0.15 m/s, Hadamard-Rybczynski).
 TEST(Hydrostatic, AnAirParticleOnAGlassFloorRisesWithTheReferenceFollowingTheContent) {
   const char* text = R"([scene]
 name = "floor_bubble"
