@@ -65,6 +65,7 @@ HydrostaticReference HydrostaticReference::of(const EffectSpec& pressure, const 
     r.containers = scene.solids;
     r.followsContent = pressure.number("follow_content") > 0.5;
     r.density = rho;
+    r.band = 0.5 * scene.solver.smoothingRatio * scene.solver.particleSpacing;  // h / 2
   }
   return r;
 }

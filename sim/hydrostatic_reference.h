@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 #include <vector>
 
 #include "sim/scene.h"
@@ -30,22 +31,43 @@ struct HydrostaticReference {
   bool followsContent = false;        // levels[c] from the content of container c (follow())
   std::vector<Real> levels;
 
+  Real band = 0;  // m: half-width of the bend at the level, h / 2 (one spacing by default)
+
   bool active() const { return weight > 0; }
-  /// How far below the level x lies: negative above it, and outside the containers.
+
+  /// p_ref / weight at `depth` below the level, and its slope (the body force's share of the
+  /// weight): the depth itself below level - band, 0 above level + band, and across the band the
+  /// parabola (depth + band)^2 / (4 band) that joins the two with a continuous slope. Why not a
+  /// kink at the level: the body force takes the slope exactly, so a kink is a step in it, which
+  /// the pair sums (smoothed over the kernel) meet only for the fluid the solve balances; a
+  /// particle of another density there is held at the level (water drops parked inside
+  /// water_oil's oil). A bend as wide as the kernel's radius is the narrowest it resolves; a wider
+  /// one takes lift from a surface layer at the level (docs/method.md, the bend at the level).
+  struct Profile {
+    Real head = 0, slope = 0;
+  };
+  Profile profile(Real depth) const {
+    if (depth >= band) return {depth, depth > 0 ? Real(1) : Real(0)};
+    if (depth <= -band) return {};
+    const Real t = depth + band;
+    return {t * t / (4 * band), t / (2 * band)};
+  }
+
+  /// How far below the level x lies: negative above it, -infinity outside the containers.
   Real depth(const Vec3& x) const {
     const Real height = dot(x, up);
     if (followsContent) {
       for (size_t c = 0; c < containers.size(); ++c)
         if (insideFluidRegion(containers[c], x)) return levels[c] - height;
-      return -1;
+      return -std::numeric_limits<Real>::infinity();
     }
     const Real d = level - height;
-    if (d <= 0 || containers.empty()) return d;  // above the level, no container walk
+    if (d <= -band || containers.empty()) return d;  // above the level and its bend, no container walk
     for (const SolidSpec& s : containers)
       if (insideFluidRegion(s, x)) return d;
-    return -1;
+    return -std::numeric_limits<Real>::infinity();
   }
-  Real pressure(const Vec3& x) const { return weight * std::max(Real(0), depth(x)); }
+  Real pressure(const Vec3& x) const { return weight * profile(depth(x)).head; }
 
   /// With followsContent: each container's level is where a column of the reference liquid
   /// would weigh what the container holds (its particles up to its rim, every fluid counted by

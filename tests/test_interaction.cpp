@@ -479,7 +479,7 @@ OilAndWater oilAndWater(const Simulation& sim, int oil, int water) {
 // The issue: oil and water shaken together separate into two layers, oil on top, and no oil
 // particle is left stranded inside the water after settling. Run at 1 cm spacing (3000
 // particles; the scene ships 0.75 cm) over the scene's 8 s, on the scene's DFSPH with the
-// hydrostatic reference in the solve: the oil's centre 0.0724 m above the water's, one oil
+// hydrostatic reference in the solve: the oil's centre 0.0760 m above the water's, one oil
 // body, none stranded or isolated. Without the reference, 0.0101 m, 4 oil bodies, 3 stranded
 // (docs/pressure_solvers.md). On WCSPH with the reference and the gradient correction: 0.0757 m.
 // Bound: two layers of equal volume 0.15 m deep in all have centres 0.075 m apart; 90 % of

@@ -13,10 +13,10 @@
 // minus the gradient of the elastic energy of the SPH density and a closed box only loses
 // energy; solver.kernel = "muller2003" restores the papers' spiky gradient (sim/kernels.h).
 // Hydrostatic reference (reference_density > 0): the pair and wall sums use the perturbation
-// p' = p - p_ref with p_ref = rho_ref |g| (level - height) below `reference_level` (0 above;
-// with follow_content, a level per container that follows its content, hydrostatic_reference.h),
-// and the exact -V_i grad p_ref = V_i rho_ref |g| (upward) is added as a body force. The sum is
-// the same momentum equation, rho a = -grad p' + (rho - rho_ref) g. Why: the pair sum's
+// p' = p - p_ref with p_ref = rho_ref |g| (level - height) below `reference_level` (0 above,
+// bent smoothly across one kernel radius around it; with follow_content, a level per container
+// that follows its content; hydrostatic_reference.h), and the exact -V_i grad p_ref (upward) is
+// added as a body force. The sum is the same momentum equation, rho a = -grad p' + (rho - rho_ref) g. Why: the pair sum's
 // p_i sum_j V_j grad W_ij term, zero only on a perfect lattice, gives the particle arrangement
 // a rigidity proportional to the pressure itself; at 10 cm depth that is ~1 kPa against the
 // ~15 Pa a lone oil particle's buoyancy exerts over its own size, so the lattice cages it.
@@ -86,9 +86,10 @@ class Pressure final : public Effect {
       submerged_.resize(ps.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
-          const Real depth = ref_.depth(x[i]);  // one walk over the containers per particle
-          submerged_[i] = depth > 0;
-          perturbation_[i] = p[i] - ref_.weight * std::max(Real(0), depth);
+          // one walk over the containers per particle
+          const HydrostaticReference::Profile at = ref_.profile(ref_.depth(x[i]));
+          submerged_[i] = at.slope;
+          perturbation_[i] = p[i] - ref_.weight * at.head;
         }
       });
       p = perturbation_.data();
@@ -117,7 +118,7 @@ class Pressure final : public Effect {
           sum += L ? L[i] * wall : wall;
         }
         ps.force[i] -= sum * V[i];
-        if (ref_.active() && submerged_[i]) ps.force[i] += ref_.up * (ref_.weight * V[i]);
+        if (ref_.active() && submerged_[i] > 0) ps.force[i] += ref_.up * (ref_.weight * submerged_[i] * V[i]);
       }
     });
   }
@@ -169,7 +170,7 @@ class Pressure final : public Effect {
   HydrostaticReference ref_;
   std::vector<Mat3> correction_;
   std::vector<Real> perturbation_;
-  std::vector<uint8_t> submerged_;  // below the reference level, inside a container
+  std::vector<Real> submerged_;  // the reference's slope: 1 below the level's bend, 0 above it
 };
 
 }  // namespace
@@ -180,7 +181,7 @@ EffectInfo pressureInfo() {
           {{"wall_scale", 1, 0, 10, {1.0}, "", "multiplier on the wall repulsion (1 = Akinci 2012)"},
            {"gradient_correction", 1, 0, 1, {0.0}, "", "1: symmetric kernel-gradient correction, exact for linear pressure fields (settled pressure error ~1 % instead of ~4 %, about 45 % more time per step); 0: plain kernel gradient"},
            {"reference_density", 1, 0, 1e5, {0.0}, "kg/m^3", "hydrostatic reference subtracted from the pressure in the pair forces and added back exactly as a body force (0: none); the densest liquid's rest density with reference_level where a column of it weighs what the liquids weigh keeps the remainder repulsive"},
-           {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface where the reference pressure is 0; it grows as rho_ref |g| depth below"},
+           {"reference_level", 1, -1e4, 1e4, {0.0}, "m", "height (along -gravity) of the free surface: the reference pressure grows as rho_ref |g| depth below it and is 0 above, bent smoothly across one kernel radius around it"},
            {"follow_content", 1, 0, 1, {0.0}, "", "1: each container's level follows what it holds, every step: where a column of the reference liquid would weigh the container's particles, less one spacing (a glass that fills or empties; reference_level is not read)", 0, true}},
           [](const EffectSpec& spec, const Scene& scene) {
             return std::make_unique<Pressure>(spec.number("wall_scale"), spec.number("gradient_correction") > 0.5,

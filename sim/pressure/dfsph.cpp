@@ -260,17 +260,18 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
   };
   if (!ref.active()) return worst(solve(ctx, ps, ps.pressure, dt, 1 / (dt * dt), 1, mean, error));
   // Hydrostatic reference: the solve works on p' = p - p_ref, with p_ref = rho_ref |g| (level -
-  // height) below the level, and the exact -grad p_ref / rho0_i = rho_ref |g| / rho0_i (upward)
-  // goes into v* as a body force. p >= 0 becomes p' >= -p_ref. The same momentum equation, with
-  // the pair and wall sums carrying only the perturbation (effects/pressure.cpp, WCSPH's form).
+  // height) below the level (bent smoothly across it, HydrostaticReference::profile), and the
+  // exact -grad p_ref / rho0_i (upward) goes into v* as a body force. p >= 0 becomes
+  // p' >= -p_ref. The same momentum equation, with the pair and wall sums carrying only the
+  // perturbation (effects/pressure.cpp, WCSPH's form).
   std::vector<Real>& p = ps.pressure;
   for (size_t i = 0; i < n; ++i) {
-    const Real depth = ref.depth(ps.position[i]);
-    if (depth <= 0) continue;
-    const Real pref = ref.weight * depth;
+    const HydrostaticReference::Profile at = ref.profile(ref.depth(ps.position[i]));
+    if (at.slope == 0) continue;
+    const Real pref = ref.weight * at.head;
     p[i] -= pref;
     lower_[i] = -pref;
-    ps.velocity[i] += ref.up * (dt * ref.weight / ps.restDensity[i]);
+    ps.velocity[i] += ref.up * (dt * ref.weight * at.slope / ps.restDensity[i]);
   }
   const PressureSolveStats stats = worst(solve(ctx, ps, p, dt, 1 / (dt * dt), 1, mean, error));
   for (size_t i = 0; i < n; ++i) p[i] -= lower_[i];
