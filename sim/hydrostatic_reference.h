@@ -47,7 +47,7 @@ struct HydrostaticReference {
     Real head = 0, slope = 0;
   };
   Profile profile(Real depth) const {
-    if (depth >= band) return {depth, depth > 0 ? Real(1) : Real(0)};
+    if (depth >= band) return {depth, 1};
     if (depth <= -band) return {};
     const Real t = depth + band;
     return {t * t / (4 * band), t / (2 * band)};
@@ -67,7 +67,6 @@ struct HydrostaticReference {
       if (insideFluidRegion(s, x)) return d;
     return -std::numeric_limits<Real>::infinity();
   }
-  Real pressure(const Vec3& x) const { return weight * profile(depth(x)).head; }
 
   /// With followsContent: each container's level is where a column of the reference liquid
   /// would weigh what the container holds (its particles up to its rim, every fluid counted by

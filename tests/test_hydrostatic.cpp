@@ -195,6 +195,28 @@ TEST(HydrostaticReference, HeightHoldingInvertsTheContainersVolume) {
   EXPECT_NEAR(mf::heightHolding(lamp, 1.0), 0.2, 1e-12);
 }
 
+// Removes the particles of other phases seeded at the sites of `phase`'s particles (a fluid
+// block laid over another on the same lattice) and returns `phase`'s ids and how many went.
+struct Carved {
+  std::vector<uint64_t> ids;
+  size_t removed = 0;
+};
+Carved carveOut(mf::Simulation& sim, int phase) {
+  mf::ParticleSet& ps = sim.mutableParticles();
+  Carved c;
+  std::vector<uint8_t> remove(ps.size(), 0);
+  for (size_t i = 0; i < ps.size(); ++i)
+    if (ps.phase[i] == phase) {
+      c.ids.push_back(ps.id[i]);
+      for (size_t j = 0; j < ps.size(); ++j)
+        if (ps.phase[j] != phase && mf::length(ps.position[j] - ps.position[i]) < 0.002) remove[j] = 1;
+    }
+  c.removed = size_t(std::count(remove.begin(), remove.end(), 1));
+  ps.removeFlagged(remove);
+  sim.refresh();
+  return c;
+}
+
 // A lone air particle in the floor layer of 6 cm of water (5 mm spacing, the pour's fluids and
 // buoyancy). The pair sums' p_i sum_j V_j grad W_ij term gives the arrangement a rigidity
 // proportional to the pressure, largest at the floor: without a reference it stayed at 2.6 mm
@@ -247,18 +269,9 @@ phase = "air"
 coefficient = 0.5
 )";
   mf::Simulation sim(mf::parseScene(text, "floor_bubble.toml"));
-  mf::ParticleSet& ps = sim.mutableParticles();
-  const int air = sim.scene().phaseIndex("air");
-  size_t bubble = ps.size();
-  for (size_t i = 0; i < ps.size(); ++i)
-    if (ps.phase[i] == air) bubble = i;
-  ASSERT_LT(bubble, ps.size());
-  const uint64_t id = ps.id[bubble];
-  std::vector<uint8_t> remove(ps.size(), 0);  // the water particle seeded at the same place
-  for (size_t i = 0; i < ps.size(); ++i)
-    remove[i] = ps.phase[i] != air && mf::length(ps.position[i] - ps.position[bubble]) < 0.002;
-  ps.removeFlagged(remove);
-  sim.refresh();
+  const Carved bubble = carveOut(sim, sim.scene().phaseIndex("air"));  // the water seeded at its place
+  ASSERT_FALSE(bubble.ids.empty());
+  const uint64_t id = bubble.ids.back();
   double highest = 0;
   sim.advanceTo(0.5, [&](const mf::Simulation& s) {
     for (size_t i = 0; i < s.particles().size(); ++i)
@@ -269,11 +282,10 @@ coefficient = 0.5
   EXPECT_EQ(sim.counters().wallClamps, 0u);
 }
 
-
 // A drop of water on the hydrostatic reference's level, inside oil, sinks. With a kink in p_ref at
 // the level the body force steps there, and the pair sums (smoothed over the kernel) meet the
-// step only for the fluid the solve balances: drops of 10-42 water particles sat at water_oil's
-// level through its 8 s (docs/method.md). The drop (2 x 2 x 2 particles, 1 mm under the level,
+// step only for the fluid the solve balances: at 8 s drops of 10-42 water particles sat at water_oil's
+// level (docs/method.md). The drop (2 x 2 x 2 particles, 1 mm under the level,
 // 5 cm up in 6 cm of oil, both 0.3 Pa s, no interface tension, so nothing but the reference can
 // hold it) would sink at Hadamard-Rybczynski's 0.050 m/s as a ball in unbounded oil. Measured
 // over 0.5-1 s: 0.009 m/s (centre 0.0471 -> 0.0428 m) with the reference bent over h/2 either
@@ -319,19 +331,9 @@ reference_level = 0.051
 [effects.viscosity]
 )";
   mf::Simulation sim(mf::parseScene(text, "level_drop.toml"));
-  mf::ParticleSet& ps = sim.mutableParticles();
-  const int water = sim.scene().phaseIndex("water");
-  std::vector<uint64_t> ids;
-  std::vector<uint8_t> remove(ps.size(), 0);  // the oil seeded at the drop's sites
-  for (size_t i = 0; i < ps.size(); ++i)
-    if (ps.phase[i] == water) {
-      ids.push_back(ps.id[i]);
-      for (size_t j = 0; j < ps.size(); ++j)
-        if (ps.phase[j] != water && mf::length(ps.position[j] - ps.position[i]) < 0.002) remove[j] = 1;
-    }
-  ASSERT_EQ(size_t(std::count(remove.begin(), remove.end(), 1)), ids.size());  // on the oil's lattice
-  ps.removeFlagged(remove);
-  sim.refresh();
+  const Carved drop = carveOut(sim, sim.scene().phaseIndex("water"));  // the oil seeded at its sites
+  ASSERT_EQ(drop.removed, drop.ids.size());  // on the oil's lattice
+  const std::vector<uint64_t>& ids = drop.ids;
   auto centre = [&](const mf::Simulation& s) {
     double y = 0;
     size_t found = 0;

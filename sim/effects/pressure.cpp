@@ -16,7 +16,8 @@
 // p' = p - p_ref with p_ref = rho_ref |g| (level - height) below `reference_level` (0 above,
 // bent smoothly across one kernel radius around it; with follow_content, a level per container
 // that follows its content; hydrostatic_reference.h), and the exact -V_i grad p_ref (upward) is
-// added as a body force. The sum is the same momentum equation, rho a = -grad p' + (rho - rho_ref) g. Why: the pair sum's
+// added as a body force. The sum is the same momentum equation,
+// rho a = -grad p' + (rho - rho_ref) g. Why: the pair sum's
 // p_i sum_j V_j grad W_ij term, zero only on a perfect lattice, gives the particle arrangement
 // a rigidity proportional to the pressure itself; at 10 cm depth that is ~1 kPa against the
 // ~15 Pa a lone oil particle's buoyancy exerts over its own size, so the lattice cages it.
@@ -83,12 +84,12 @@ class Pressure final : public Effect {
     if (ref_.active()) {
       ref_.follow(ps, ctx.particleSpacing);
       perturbation_.resize(ps.size());
-      submerged_.resize(ps.size());
+      refSlope_.resize(ps.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 2048), [&](const auto& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
           // one walk over the containers per particle
           const HydrostaticReference::Profile at = ref_.profile(ref_.depth(x[i]));
-          submerged_[i] = at.slope;
+          refSlope_[i] = at.slope;
           perturbation_[i] = p[i] - ref_.weight * at.head;
         }
       });
@@ -118,7 +119,7 @@ class Pressure final : public Effect {
           sum += L ? L[i] * wall : wall;
         }
         ps.force[i] -= sum * V[i];
-        if (ref_.active() && submerged_[i] > 0) ps.force[i] += ref_.up * (ref_.weight * submerged_[i] * V[i]);
+        if (ref_.active() && refSlope_[i] > 0) ps.force[i] += ref_.up * (ref_.weight * refSlope_[i] * V[i]);
       }
     });
   }
@@ -170,7 +171,7 @@ class Pressure final : public Effect {
   HydrostaticReference ref_;
   std::vector<Mat3> correction_;
   std::vector<Real> perturbation_;
-  std::vector<Real> submerged_;  // the reference's slope: 1 below the level's bend, 0 above it
+  std::vector<Real> refSlope_;  // d p_ref / d depth / weight: 1 below the level's bend, 0 above it
 };
 
 }  // namespace
