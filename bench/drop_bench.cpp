@@ -10,8 +10,15 @@
 //    2 pi / sqrt(8 sigma / (rho R^3)).
 // R is the radius of the drop's volume, (3 N s^3 / 4 pi)^(1/3).
 //
+// --medium puts the drop (colour +0.5) in a closed box of another liquid of the same density
+// (colour -0.5, half-width max(2.5 R, R + 8 cm)) with interface tension sigma between them: the
+// jump is the drop's interior pressure less the medium's (3 spacings clear of the drop and the
+// walls), the period Lamb's for a drop in a liquid, 2 pi / sqrt(24 sigma / (5 rho R^3)).
+//
 //   drop_bench [--solvers dfsph,wcsph] [--radii 0.035,0.05,0.08] [--end 1] [--period-radius 0.05]
-//              [--trace] [--set key=value]...      (--trace: the n = 2 drop's sum every 0.02 s)
+//              [--trace] [--medium] [--profile] [--set key=value]...
+//   --trace: the n = 2 drop's sum every 0.02 s; --profile: each static drop's last frame, pressure
+//   and density per shell half a spacing thick, drop and medium apart.
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
@@ -29,7 +36,64 @@ using namespace mf;
 
 constexpr Real kSigma = 1.0, kRho = 1000.0, kSpacing = 0.01;
 
+// --medium: the drop is one liquid ("drop", colour +0.5) inside another of the same density
+// ("medium", -0.5) filling a closed box of half-width L, with interface tension sigma between them.
+bool medium = false;
+bool profile = false;  // --profile: each static drop's pressure and density by distance from its centre
+Real mediumHalfWidth(Real R) { return std::max(2.5 * R, R + 0.08); }
+
+std::string mediumScene(const std::string& solver, Real R, Real stretch, Real endTime) {
+  const Real a = R * (1 + stretch), b = R / std::sqrt(1 + stretch), L = mediumHalfWidth(R * (1 + stretch));
+  return fmt::format(R"([scene]
+name = "drop"
+end_time = {end}
+domain_min = [{m}, {m}, {m}]
+domain_max = [{L}, {L}, {L}]
+[solver]
+particle_spacing = {s}
+max_dt = 0.005
+pressure = "{solver}"
+[[phase]]
+name = "medium"
+rest_density = {rho}
+stiffness = 100.0
+viscosity = 0.01
+interface_colour = -0.5
+[[phase]]
+name = "drop"
+rest_density = {rho}
+stiffness = 100.0
+viscosity = 0.01
+interface_colour = 0.5
+[[solid]]
+name = "box"
+shape = "box"
+min = [{m}, {m}, {m}]
+max = [{L}, {L}, {L}]
+[[fluid]]
+phase = "drop"
+shape = "ellipsoid"
+centre = [0.0, 0.0, 0.0]
+radii = [{a}, {b}, {b}]
+[[fluid]]
+phase = "medium"
+min = [{m}, {m}, {m}]
+max = [{L}, {L}, {L}]
+[[fluid.subtract]]
+shape = "ellipsoid"
+centre = [0.0, 0.0, 0.0]
+radii = [{a}, {b}, {b}]
+[effects.pressure]
+[effects.viscosity]
+[effects.interface_tension]
+sigma = {sigma}
+)",
+                     fmt::arg("end", endTime), fmt::arg("s", kSpacing), fmt::arg("solver", solver), fmt::arg("rho", kRho),
+                     fmt::arg("sigma", kSigma), fmt::arg("a", a), fmt::arg("b", b), fmt::arg("L", L), fmt::arg("m", -L));
+}
+
 std::string dropScene(const std::string& solver, Real R, Real stretch, Real endTime) {
+  if (medium) return mediumScene(solver, R, stretch, endTime);
   const Real a = R * (1 + stretch), b = R / std::sqrt(1 + stretch);
   return fmt::format(R"([scene]
 name = "drop"
@@ -66,31 +130,70 @@ std::vector<std::string> split(const std::string& s) {
   return v;
 }
 
+bool inDrop(const ParticleSet& q, size_t i) { return !medium || q.phase[i] == 1; }
+
+size_t dropCount(const ParticleSet& q) {
+  size_t n = 0;
+  for (size_t i = 0; i < q.size(); ++i) n += inDrop(q, i);
+  return n;
+}
+
 Vec3 centroid(const ParticleSet& q) {
   Vec3 c;
-  for (const Vec3& x : q.position) c += x;
-  return c * (1.0 / Real(q.size()));
+  for (size_t i = 0; i < q.size(); ++i)
+    if (inDrop(q, i)) c += q.position[i];
+  return c * (1.0 / Real(dropCount(q)));
 }
 
 void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<std::string>& sets) {
   Simulation sim(parseScene(dropScene(solver, R0, 0, end), "drop.toml", sets));
-  const Real R = std::cbrt(3 * Real(sim.particles().size()) * kSpacing * kSpacing * kSpacing / (4 * kPi));
-  Real pressure = 0, cap = 0;
+  const Real R = std::cbrt(3 * Real(dropCount(sim.particles())) * kSpacing * kSpacing * kSpacing / (4 * kPi));
+  const Real L = mediumHalfWidth(R0) - 3 * kSpacing;
+  Real pressure = 0, cap = 0, outside = 0;
   int samples = 0;
   sim.advanceTo(end, [&](const Simulation& s) {
     if (s.time() <= 0.5 * end) return;
     const ParticleSet& q = s.particles();
     const Vec3 c = centroid(q);
-    Real sum = 0, up = 0;
-    int count = 0;
+    Real sum = 0, up = 0, out = 0;
+    int count = 0, outCount = 0;
     for (size_t i = 0; i < q.size(); ++i) {
-      const Vec3 d = q.position[i] - c;
+      const Vec3 d = q.position[i] - c, x = q.position[i];
+      if (!inDrop(q, i)) {  // the medium between the drop and the walls, clear of both
+        if (length(d) > R + 3 * kSpacing && std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}) < L)
+          out += q.mechanicalPressure(i), ++outCount;
+        continue;
+      }
       if (length(d) < 0.5 * R) sum += q.mechanicalPressure(i), ++count;
       if (d.y > 0) up += q.force[i].y;  // the non-pressure forces of the step: tension (and viscosity)
     }
     if (count) pressure += sum / count, cap += up, ++samples;
+    if (outCount) outside += out / outCount;
   });
-  pressure /= samples, cap /= samples;
+  pressure /= samples, cap /= samples, outside /= samples;
+  if (profile) {  // the last frame's shells, half a spacing thick, around the drop's centre
+    const ParticleSet& q = sim.particles();
+    const Vec3 c = centroid(q);
+    for (int b = 0; b < 20; ++b) {
+      Real p[2] = {0, 0}, rho[2] = {0, 0};
+      int n[2] = {0, 0};
+      for (size_t i = 0; i < q.size(); ++i) {
+        const Real r = length(q.position[i] - c);
+        if (int(r / (0.5 * kSpacing)) != b) continue;
+        const int k = inDrop(q, i);
+        p[k] += q.mechanicalPressure(i), rho[k] += q.density[i] / q.restDensity[i], ++n[k];
+      }
+      fmt::print("  r {:.3f}: drop {:4} p {:7.2f} rho {:.4f} | medium {:4} p {:7.2f} rho {:.4f}\n", (b + 0.5) * 0.5 * kSpacing, n[1],
+                 n[1] ? p[1] / n[1] : 0, n[1] ? rho[1] / n[1] : 0, n[0], n[0] ? p[0] / n[0] : 0, n[0] ? rho[0] / n[0] : 0);
+    }
+  }
+  if (medium) {
+    fmt::print("{:<6} static R = {:.4f} m in a medium ({:5} + {:5} particles, {:4} steps): interior p = {:6.2f} Pa, outside {:6.2f} Pa, "
+               "jump {:6.2f} Pa, 2 sigma/R = {:6.2f} Pa, ratio {:.3f}\n",
+               solver, R, dropCount(sim.particles()), sim.particles().size() - dropCount(sim.particles()), sim.counters().steps, pressure,
+               outside, pressure - outside, 2 * kSigma / R, (pressure - outside) / (2 * kSigma / R));
+    return;
+  }
   const Real laplace = 2 * kSigma / R, line = 2 * kPi * R * kSigma;
   // WCSPH's pressure is one of the forces, so the upper half's force is the tension's only on DFSPH.
   const std::string tension = solver == "dfsph" ? fmt::format("; upper-half tension {:.4f} N, 2 pi R sigma = {:.4f} N, ratio {:.3f}",
@@ -102,33 +205,40 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
 
 void oscillatingDrop(const std::string& solver, Real R0, const std::vector<std::string>& sets, bool trace) {
   const Real stretch = 0.2;
-  const Real guess = 2 * kPi / std::sqrt(8 * kSigma / (kRho * R0 * R0 * R0));
+  // Rayleigh's omega^2 = 8 sigma / (rho R^3); in a medium of density rho_o, Lamb's (1932, sec. 275)
+  // 24 sigma / (R^3 (3 rho + 2 rho_o)), here with rho_o = rho.
+  const Real stiffness = medium ? 24.0 / 5.0 : 8.0;
+  const Real guess = 2 * kPi / std::sqrt(stiffness * kSigma / (kRho * R0 * R0 * R0));
   const Real end = 2.5 * guess;
   Simulation sim(parseScene(dropScene(solver, R0, stretch, end), "drop.toml", sets));
-  const Real R = std::cbrt(3 * Real(sim.particles().size()) * kSpacing * kSpacing * kSpacing / (4 * kPi));
-  const Real rayleigh = 2 * kPi / std::sqrt(8 * kSigma / (kRho * R * R * R));
+  const Real R = std::cbrt(3 * Real(dropCount(sim.particles())) * kSpacing * kSpacing * kSpacing / (4 * kPi));
+  const Real rayleigh = 2 * kPi / std::sqrt(stiffness * kSigma / (kRho * R * R * R));
   std::vector<Real> crossings;
   Real last = 0, lastT = 0;
   sim.advanceTo(end, [&](const Simulation& s) {
     const ParticleSet& q = s.particles();
     const Vec3 c = centroid(q);
     Real m = 0;
-    for (const Vec3& x : q.position) m += (x.x - c.x) * (x.x - c.x) - (x.y - c.y) * (x.y - c.y);
+    for (size_t i = 0; i < q.size(); ++i) {
+      const Vec3& x = q.position[i];
+      if (inDrop(q, i)) m += (x.x - c.x) * (x.x - c.x) - (x.y - c.y) * (x.y - c.y);
+    }
     const Real t = s.time();
     if (lastT > 0 && (m > 0) != (last > 0)) crossings.push_back(lastT + (t - lastT) * last / (last - m));
     if (trace && std::floor(t / 0.02) != std::floor(lastT / 0.02)) fmt::print("  t {:.3f} s  sum(x^2 - y^2) {:+.4e} m^2\n", t, m);
     last = m, lastT = t;
   });
-  std::string line = fmt::format("{:<6} n = 2  R = {:.4f} m ({:5} particles, {:4} steps): ", solver, R, sim.particles().size(),
+  std::string line = fmt::format("{:<6} n = 2  R = {:.4f} m{} ({:5} particles, {:4} steps): ", solver, R, medium ? " in a medium" : "", dropCount(sim.particles()),
                                  sim.counters().steps);
   if (crossings.size() < 3) {
-    fmt::print("{}{} zero crossings in {:.2f} s: no oscillation (Rayleigh's period {:.3f} s)\n", line, crossings.size(), end, rayleigh);
+    fmt::print("{}{} zero crossings in {:.2f} s: no oscillation ({}'s period {:.3f} s)\n", line, crossings.size(), end,
+               medium ? "Lamb" : "Rayleigh", rayleigh);
     return;
   }
   // Crossings 1 apart are half a period apart; the first one is left out (the start).
   const Real period = 2 * (crossings.back() - crossings[1]) / Real(crossings.size() - 2);
-  fmt::print("{}period {:.3f} s from {} crossings, Rayleigh {:.3f} s, ratio {:.3f}\n", line, period, crossings.size(), rayleigh,
-             period / rayleigh);
+  fmt::print("{}period {:.3f} s from {} crossings, {} {:.3f} s, ratio {:.3f}\n", line, period, crossings.size(),
+             medium ? "Lamb" : "Rayleigh", rayleigh, period / rayleigh);
 }
 
 }  // namespace
@@ -146,8 +256,10 @@ int main(int argc, char** argv) {
     else if (a == "--period-radius" && more) periodRadius = std::stod(argv[++i]);
     else if (a == "--set" && more) sets.push_back(argv[++i]);
     else if (a == "--trace") trace = true;
+    else if (a == "--medium") medium = true;
+    else if (a == "--profile") profile = true;
     else {
-      fmt::print(stderr, "usage: drop_bench [--solvers dfsph,wcsph] [--radii 0.035,0.05,0.08] [--end 1] [--period-radius 0.05] [--trace] [--set key=value]...\n");
+      fmt::print(stderr, "usage: drop_bench [--solvers dfsph,wcsph] [--radii 0.035,0.05,0.08] [--end 1] [--period-radius 0.05] [--trace] [--medium] [--profile] [--set key=value]...\n");
       return 2;
     }
   }

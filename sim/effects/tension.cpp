@@ -43,6 +43,26 @@ struct Poly6Derivatives {
   Real lap(Real r2) const { return lapCoef * (h2 - r2) * (3 * h2 - 7 * r2); }
 };
 
+}  // namespace
+
+/// 1 / M, M = sum_j V (x_j - x_i)_x (grad W_ij)_x over the rest lattice (V = 1 / the lattice's
+/// kernel sum, the volume a particle has there): the SPH gradient of a linear field is M times
+/// the true one. M is 1 for the continuous integral but 1.067 for poly6 on the lattice at h = 2
+/// spacings, and the capillary stress takes the gradient twice (the colour's, then the stress's
+/// divergence), so without the factor the tension is 1.14 sigma.
+Real colourGradientScale(const SphKernels& K, Real s) {
+  const Poly6Derivatives D(K);
+  const Real V = 1.0 / latticeKernelSum(K, s);
+  const Real M = sumOverRestLattice(K, s, [&](int a, int b, int c) {
+    const Real r2 = s * s * Real(a * a + b * b + c * c);
+    if (r2 >= K.h2) return 0.0;
+    return V * (a * s) * D.grad(Vec3(-a * s, -b * s, -c * s), r2).x;  // c_j - c_i = (x_j - x_i)_x, r_ij = x_i - x_j
+  });
+  return 1.0 / M;
+}
+
+namespace {
+
 /// Brackbill's capillary limit dt <= sqrt(rho dx^3 / (2 pi sigma)) for the smallest rest density.
 Real capillaryTimeStep(const Scene& scene, Real sigmaMax) {
   if (sigmaMax <= 0) return std::numeric_limits<Real>::infinity();
@@ -98,14 +118,20 @@ void applyTensionForce(const StepContext& ctx, ParticleSet& ps, const std::vecto
 class InterfaceTension final : public Effect {
  public:
   enum class Model { Laplacian = 0, Curvature = 1, Stress = 2 };
-  InterfaceTension(std::vector<Real> sigma, size_t phaseCount, Real threshold, Model model, Real dtLimit)
-      : sigma_(std::move(sigma)), phaseCount_(phaseCount), threshold_(threshold), model_(model), dtLimit_(dtLimit) {}
+  InterfaceTension(std::vector<Real> sigma, size_t phaseCount, Real threshold, Model model, Real spacing, Real dtLimit)
+      : sigma_(std::move(sigma)),
+        phaseCount_(phaseCount),
+        threshold_(threshold),
+        model_(model),
+        spacing_(spacing),
+        dtLimit_(dtLimit) {}
   const char* name() const override { return "interface_tension"; }
   AttributeMask requiredAttributes() const override { return bit(Attribute::InterfaceColour); }
 
   void accumulateForces(const StepContext& ctx, ParticleSet& ps) override {
     const Poly6Derivatives D(ctx.kernels);
     const SphKernels& K = ctx.kernels;
+    if (scaleH_ != K.h) gradScale_ = colourGradientScale(K, spacing_), scaleH_ = K.h;
     const NeighborLists& nf = ctx.fluidNeighbors;
     const size_t n = ps.size();
     normal_.resize(n);
@@ -132,7 +158,7 @@ class InterfaceTension final : public Effect {
           sigmaW += sigma_[rowI + ps.phase[j]] * w;
           sumW += w;
         }
-        normal_[i] = grad;
+        normal_[i] = grad * gradScale_;
         lap_[i] = lap;
         sigma_i_[i] = sumW > 0 ? sigmaW / sumW : 0;
       }
@@ -182,7 +208,7 @@ class InterfaceTension final : public Effect {
           if (r2 >= K.h2) continue;
           // poly6's gradient vanishes at r -> 0, so the tangential tension has no grip on a
           // close pair; pressure keeps pairs apart.
-          const Vec3 g = D.grad(rij, r2) * ps.volume[j];
+          const Vec3 g = D.grad(rij, r2) * (ps.volume[j] * gradScale_);
           f += Si.times(g) + Sj.times(g);
         }
         ps.force[i] += f * ps.volume[i];
@@ -206,7 +232,8 @@ class InterfaceTension final : public Effect {
   size_t phaseCount_;
   Real threshold_;
   Model model_;
-  Real dtLimit_;
+  Real spacing_, dtLimit_;
+  Real gradScale_ = 1, scaleH_ = 0;
   std::vector<Vec3> normal_;
   std::vector<Real> lap_, sigma_i_;
 };
@@ -235,6 +262,7 @@ class SurfaceTension final : public Effect {
         return r2 < K.h2 ? V * D.lap(r2) : 0.0;
       });
       lapResidual_ = sum;
+      gradScale_ = colourGradientScale(K, s);
       residualH_ = K.h;
     }
     const Real lapSelf = D.lap(0);
@@ -269,7 +297,7 @@ class SurfaceTension final : public Effect {
             grad += D.grad(rib, r2) * Vc;
             lap += Vc * D.lap(r2);
           }
-        normal_[i] = grad;
+        normal_[i] = grad * gradScale_;
         lap_[i] = lap;
         sigma_i_[i] = sigma_[ps.phase[i]];
       }
@@ -286,7 +314,7 @@ class SurfaceTension final : public Effect {
   Real spacing_, dtLimit_;
   std::vector<Vec3> normal_;
   std::vector<Real> lap_, sigma_i_;
-  Real lapResidual_ = std::numeric_limits<Real>::quiet_NaN(), residualH_ = 0;
+  Real lapResidual_ = std::numeric_limits<Real>::quiet_NaN(), residualH_ = 0, gradScale_ = 1;
 };
 
 }  // namespace
@@ -310,7 +338,7 @@ EffectInfo interfaceTensionInfo() {
         const Real sigmaMax = *std::max_element(sigma.begin(), sigma.end());
         return std::make_unique<InterfaceTension>(
             sigma, n, spec.number("normal_threshold"), InterfaceTension::Model(int(spec.number("model") + 0.5)),
-            spec.number("time_step_factor") * capillaryTimeStep(scene, sigmaMax));
+            scene.solver.particleSpacing, spec.number("time_step_factor") * capillaryTimeStep(scene, sigmaMax));
       }};
   info.lists = {{"pair",
                  "interface tension of one pair of fluids",
