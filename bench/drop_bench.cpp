@@ -42,85 +42,51 @@ bool medium = false;
 bool profile = false;  // --profile: each static drop's pressure and density by distance from its centre
 Real mediumHalfWidth(Real R) { return std::max(2.5 * R, R + 0.08); }
 
-std::string mediumScene(const std::string& solver, Real R, Real stretch, Real endTime) {
-  const Real a = R * (1 + stretch), b = R / std::sqrt(1 + stretch), L = mediumHalfWidth(R * (1 + stretch));
+// The scene's header and one water-like phase (its last line, `extra`, says which tension it feels).
+std::string sceneHead(const std::string& solver, Real endTime, Real half) {
   return fmt::format(R"([scene]
 name = "drop"
-end_time = {end}
-domain_min = [{m}, {m}, {m}]
-domain_max = [{L}, {L}, {L}]
+end_time = {}
+domain_min = [{}, {}, {}]
+domain_max = [{}, {}, {}]
 [solver]
-particle_spacing = {s}
+particle_spacing = {}
 max_dt = 0.005
-pressure = "{solver}"
-[[phase]]
-name = "medium"
-rest_density = {rho}
-stiffness = 100.0
-viscosity = 0.01
-interface_colour = -0.5
-[[phase]]
-name = "drop"
-rest_density = {rho}
-stiffness = 100.0
-viscosity = 0.01
-interface_colour = 0.5
-[[solid]]
+pressure = "{}"
+)",
+                     endTime, -half, -half, -half, half, half, half, kSpacing, solver);
+}
+
+std::string phase(const std::string& name, const std::string& extra) {
+  return fmt::format("[[phase]]\nname = \"{}\"\nrest_density = {}\nstiffness = 100.0\nviscosity = 0.01\n{}\n", name, kRho, extra);
+}
+
+std::string dropScene(const std::string& solver, Real R, Real stretch, Real endTime) {
+  const Real a = R * (1 + stretch), b = R / std::sqrt(1 + stretch);
+  const std::string ellipsoid = fmt::format("shape = \"ellipsoid\"\ncentre = [0.0, 0.0, 0.0]\nradii = [{}, {}, {}]\n", a, b, b);
+  if (!medium)
+    return sceneHead(solver, endTime, 0.5) + phase("water", fmt::format("surface_tension = {}", kSigma)) +
+           "[[fluid]]\nphase = \"water\"\n" + ellipsoid + "[effects.pressure]\n[effects.viscosity]\n[effects.surface_tension]\n";
+  const Real L = mediumHalfWidth(a);
+  return sceneHead(solver, endTime, L) + phase("medium", "interface_colour = -0.5") + phase("drop", "interface_colour = 0.5") +
+         fmt::format(R"([[solid]]
 name = "box"
 shape = "box"
 min = [{m}, {m}, {m}]
 max = [{L}, {L}, {L}]
 [[fluid]]
 phase = "drop"
-shape = "ellipsoid"
-centre = [0.0, 0.0, 0.0]
-radii = [{a}, {b}, {b}]
-[[fluid]]
+{e}[[fluid]]
 phase = "medium"
 min = [{m}, {m}, {m}]
 max = [{L}, {L}, {L}]
 [[fluid.subtract]]
-shape = "ellipsoid"
-centre = [0.0, 0.0, 0.0]
-radii = [{a}, {b}, {b}]
-[effects.pressure]
+{e}[effects.pressure]
 [effects.viscosity]
 [effects.interface_tension]
 sigma = {sigma}
 )",
-                     fmt::arg("end", endTime), fmt::arg("s", kSpacing), fmt::arg("solver", solver), fmt::arg("rho", kRho),
-                     fmt::arg("sigma", kSigma), fmt::arg("a", a), fmt::arg("b", b), fmt::arg("L", L), fmt::arg("m", -L));
-}
-
-std::string dropScene(const std::string& solver, Real R, Real stretch, Real endTime) {
-  if (medium) return mediumScene(solver, R, stretch, endTime);
-  const Real a = R * (1 + stretch), b = R / std::sqrt(1 + stretch);
-  return fmt::format(R"([scene]
-name = "drop"
-end_time = {end}
-domain_min = [-0.5, -0.5, -0.5]
-domain_max = [0.5, 0.5, 0.5]
-[solver]
-particle_spacing = {s}
-max_dt = 0.005
-pressure = "{solver}"
-[[phase]]
-name = "water"
-rest_density = {rho}
-stiffness = 100.0
-viscosity = 0.01
-surface_tension = {sigma}
-[[fluid]]
-phase = "water"
-shape = "ellipsoid"
-centre = [0.0, 0.0, 0.0]
-radii = [{a}, {b}, {b}]
-[effects.pressure]
-[effects.viscosity]
-[effects.surface_tension]
-)",
-                     fmt::arg("end", endTime), fmt::arg("s", kSpacing), fmt::arg("solver", solver), fmt::arg("rho", kRho),
-                     fmt::arg("sigma", kSigma), fmt::arg("a", a), fmt::arg("b", b));
+                     fmt::arg("m", -L), fmt::arg("L", L), fmt::arg("e", ellipsoid), fmt::arg("sigma", kSigma));
 }
 
 std::vector<std::string> split(const std::string& s) {
