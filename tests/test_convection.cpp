@@ -270,8 +270,9 @@ TEST(RayleighTaylor, HeavyOverLightOverturnsAtTheLampsViscosityAndTheStableWayRo
 // sigma = 2.28 N/m, the hydrostatic reference; 8.2 min in ctest -j2): the hottest tenth rises
 // past the middle 5 times (6.2, 25.2, 32.9, 39.9, 48.1 s) and sinks below it 5 times. None left
 // the vessel, none NaN. On WCSPH at sigma = 8 N/m (9.1 N/m as the calibrated tension states
-// it): 12 rises and 11 sinks; on DFSPH at that tension the wax never leaves the bulb. The flow is chaotic, so a change to
-// the solver's arithmetic moves the crossings; the bound is the three cycles.
+// it): 12 rises and 11 sinks; on DFSPH at that tension the wax never leaves the bulb. The flow
+// is chaotic, so a change to the solver's arithmetic moves the crossings; the bound is the
+// issue's three cycles.
 namespace {
 struct LampCycles {
   int rises = 0, sinks = 0;

@@ -400,10 +400,11 @@ TEST(InterfaceTension, ColourGradientIntegratesToTheJumpAcrossAFlatInterface) {
 
 TEST(InterfaceTension, RandomMixtureSortsItself) {
   // Equal densities, no gravity: only interface tension can sort the fluids; the issue asks the
-  // unlike-contact fraction to fall 5x. Measured with sigma = 1.5 N/m: 1.85x at 1 s, 4.95x at
-  // 3 s, 5.9x at 4 s, 6.7x at 5 s. (With sigma = 0.6 it was 6.0x at 4.2 s under the papers'
-  // kernels, whose non-conservative pressure stirred the particles; with the conservative
-  // default it is 3.5x: coarsening is driven by tension alone.) On WCSPH: the lattice filling a
+  // unlike-contact fraction to fall 5x. Measured with sigma = 1.71 N/m: 7.32x in 4.2 s. That is
+  // the tension the key 1.5 gave before the colour gradient's lattice calibration, with which
+  // it read 1.85x at 1 s, 4.95x at 3 s, 5.9x at 4 s, 6.7x at 5 s. (With 0.6 it was 6.0x at 4.2 s
+  // under the papers' kernels, whose non-conservative pressure stirred the particles; with the
+  // conservative default it is 3.5x: coarsening is driven by tension alone.) On WCSPH: the lattice filling a
   // closed box is held on its sites by DFSPH's constant-density solve, 1.00x at 2 spacings'
   // support, 2.37x at 2.25 and 3.24x at 2.5 (docs/pressure_solvers.md).
   const Real ratio = mixtureContactRatio(1.71, 4.2);
