@@ -21,7 +21,8 @@ class Sampler {
 
   /// `seed`: the pixel's (see pixelSeed); `index`: the sample within the pixel. `random`:
   /// independent hashed values instead (for comparison: render.sobol = false).
-  Sampler(uint64_t seed, uint32_t index, bool random = false) : random_(random), seed_(seed), index_(index) {}
+  Sampler(uint64_t seed, uint32_t index, bool random = false)
+      : random_(random), seed_(seed), index_(index), reversedIndex_(reverse(index)) {}
 
   static uint64_t pixelSeed(uint64_t x, uint64_t y, uint64_t frame) {
     return mix(mix(mix(0x5851F42D4C957F2Dull ^ frame) ^ y) ^ x);
@@ -38,9 +39,10 @@ class Sampler {
       return;
     }
     const uint32_t s = uint32_t(mix(seed_ ^ (uint64_t(pair) << 32)));
-    const uint32_t i = nestedUniformScramble(index_, s);
-    u = toUnit(nestedUniformScramble(sobol0(i), hash(s ^ 0xA511E9B3u)));
-    v = toUnit(nestedUniformScramble(sobol1(i), hash(s ^ 0x63D83595u)));
+    const uint32_t i = reverse(laineKarras(reversedIndex_, s));  // the sample's place in the pair's shuffled order
+    // nestedUniformScramble(sobol0(i), .) = reverse(laineKarras(i, .)): the two reversals cancel.
+    u = toUnit(reverse(laineKarras(i, hash(s ^ 0xA511E9B3u))));
+    v = toUnit(reverse(laineKarras(reversedSobol1(i), hash(s ^ 0x63D83595u))));
   }
   /// One value in [0, 1): the first coordinate of the pair (a scrambled van der Corput point).
   double get1D(uint32_t pair) const {
@@ -50,7 +52,7 @@ class Sampler {
       return u;
     }
     const uint32_t s = uint32_t(mix(seed_ ^ (uint64_t(pair) << 32)));
-    return toUnit(nestedUniformScramble(sobol0(nestedUniformScramble(index_, s)), hash(s ^ 0xA511E9B3u)));
+    return toUnit(reverse(laineKarras(reverse(laineKarras(reversedIndex_, s)), hash(s ^ 0xA511E9B3u))));
   }
   /// The path's next dimensions.
   void next2D(double& u, double& v) { get2D(next_++, u, v); }
@@ -67,12 +69,10 @@ class Sampler {
     x ^= x >> 16, x *= 0x7FEB352Du, x ^= x >> 15, x *= 0x846CA68Bu, x ^= x >> 16;
     return x;
   }
+  /// Bit reversal by bytes: the tables of Tables() (1 KiB each) stay in the L1 cache.
   static uint32_t reverse(uint32_t x) {
-    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
-    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
-    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
-    return (x >> 16) | (x << 16);
+    const uint32_t* r = tables().reverseByte;
+    return (r[x & 0xFF] << 24) | (r[(x >> 8) & 0xFF] << 16) | (r[(x >> 16) & 0xFF] << 8) | r[x >> 24];
   }
   static uint32_t laineKarras(uint32_t x, uint32_t seed) {  // Burley's improved constants
     x ^= x * 0x3D20ADEAu;
@@ -82,20 +82,45 @@ class Sampler {
     x ^= x * 0x53A22864u;
     return x;
   }
-  /// Owen scrambling: every bit flipped by a hash of the bits above it.
-  static uint32_t nestedUniformScramble(uint32_t x, uint32_t seed) { return reverse(laineKarras(reverse(x), seed)); }
-  static uint32_t sobol0(uint32_t i) { return reverse(i); }  // van der Corput
-  static uint32_t sobol1(uint32_t i) {  // Sobol's second dimension: v_k = v_{k-1} ^ (v_{k-1} >> 1)
-    uint32_t r = 0;
-    for (uint32_t v = 1u << 31; i; i >>= 1, v ^= v >> 1)
-      if (i & 1) r ^= v;
-    return r;
+  /// Sobol's second dimension, bit-reversed: the XOR of reverse(v_k) over the set bits k of i
+  /// (v_k = v_{k-1} ^ (v_{k-1} >> 1), v_0 = 2^31), a byte of i at a time.
+  static uint32_t reversedSobol1(uint32_t i) {
+    const uint32_t(*t)[256] = tables().sobol1;
+    return t[0][i & 0xFF] ^ t[1][(i >> 8) & 0xFF] ^ t[2][(i >> 16) & 0xFF] ^ t[3][i >> 24];
+  }
+  struct Tables {
+    uint32_t reverseByte[256];
+    uint32_t sobol1[4][256];
+    Tables() {
+      for (uint32_t b = 0; b < 256; ++b) {
+        uint32_t r = 0;
+        for (int k = 0; k < 8; ++k) r |= ((b >> k) & 1u) << (7 - k);
+        reverseByte[b] = r;
+      }
+      uint32_t column[32];  // reverse(v_k)
+      for (uint32_t k = 0, v = 1u << 31; k < 32; ++k, v ^= v >> 1) {
+        uint32_t r = 0;
+        for (int bit = 0; bit < 32; ++bit) r |= ((v >> bit) & 1u) << (31 - bit);
+        column[k] = r;
+      }
+      for (int byte = 0; byte < 4; ++byte)
+        for (uint32_t b = 0; b < 256; ++b) {
+          uint32_t x = 0;
+          for (int k = 0; k < 8; ++k)
+            if (b >> k & 1u) x ^= column[8 * byte + k];
+          sobol1[byte][b] = x;
+        }
+    }
+  };
+  static const Tables& tables() {
+    static const Tables t;
+    return t;
   }
   static double toUnit(uint32_t x) { return (x >> 8) * (1.0 / 16777216.0); }  // [0, 1), 24 bits
 
   bool random_;
   uint64_t seed_;
-  uint32_t index_;
+  uint32_t index_, reversedIndex_;
   uint32_t bounce_ = 0, next_ = kCameraPairs;
 };
 
