@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace mf {
 
@@ -157,9 +158,16 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
         periodic.forEachImage(cellLo, cellLo + Vec3(cellSize_, cellSize_, cellSize_), Vec3(radius, radius, radius), addImage);
       const Vec3* xs = other.sortedPoints_.data();
       const uint32_t* js = other.sorted_.data();
+      // Room for every candidate of the cell's particles, so that the scan below can write each
+      // one and advance only past those within reach (no branch to mispredict).
+      size_t candidates = 0;
+      for (int r = 0; r < nr; ++r) candidates += ranges[r][1] - ranges[r][0];
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
-        const uint32_t i = sorted_[p];
+        const uint32_t i = sorted_[p], skip = excludeSelf ? i : UINT32_MAX;  // no point has index UINT32_MAX
         const size_t before = buf.size();
+        buf.resize(before + candidates);
+        uint32_t* out = buf.data() + before;
+        size_t found = 0;
         for (int r = 0; r < nr; ++r) {
           const int image = rangeImage[r];
           const Vec3 xi = image == 0 ? sortedPoints_[p] : sortedPoints_[p] + imageShift[image];
@@ -174,10 +182,13 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
           if (d2 >= r2max) continue;
           for (uint32_t q = ranges[r][0]; q < ranges[r][1]; ++q) {
             const Vec3 d = xi - xs[q];
-            if (lengthSquared(d) < r2max && !(excludeSelf && js[q] == i)) buf.push_back(js[q]);
+            const uint32_t j = js[q];
+            out[found] = j;
+            found += size_t((lengthSquared(d) < r2max) & (j != skip));
           }
         }
-        counts[i] = uint32_t(buf.size() - before);
+        buf.resize(before + found);
+        counts[i] = uint32_t(found);
       }
     }
   });
