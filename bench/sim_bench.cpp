@@ -1,6 +1,8 @@
 // sim_bench: cost of the SPH core on a dam break at several sizes and thread counts.
 // Prints ns per particle-step (wall time x threads-independent: wall ns / particles / steps),
-// steps per second, mean neighbour count, the split by stage and the process's peak memory.
+// steps per second, mean neighbour count, the implicit solves' iterations per step (DFSPH: both
+// solves and the compression passes' iterations), the split by stage ("press." is WCSPH's pressure
+// force or DFSPH's solves) and the process's peak memory.
 //
 //   sim_bench [--particles 10000,100000,1000000] [--threads 1,2] [--seconds 3]
 //             [--set key=value]...
@@ -67,8 +69,8 @@ int main(int argc, char** argv) {
   }
   fmt::print("dam break (configs/dam_break.toml, gravity + pressure + viscosity), {} hardware threads\n",
              std::thread::hardware_concurrency());
-  fmt::print("{:>9} {:>7} {:>6} {:>9} {:>10} {:>8} | {:>7} {:>7} {:>7} {:>7} {:>7} | {:>9}\n", "particles", "threads",
-             "steps", "ns/p-step", "steps/s", "nbrs", "search", "density", "press.", "visc.", "integr.", "peak MiB");
+  fmt::print("{:>9} {:>7} {:>6} {:>9} {:>10} {:>8} {:>7} | {:>7} {:>7} {:>7} {:>7} {:>7} | {:>9}\n", "particles", "threads",
+             "steps", "ns/p-step", "steps/s", "nbrs", "it/step", "search", "density", "press.", "visc.", "integr.", "peak MiB");
   for (long size : sizes) {
     const mf::Scene scene = damBreak(size, sets);
     for (long t : threads) {
@@ -77,6 +79,7 @@ int main(int argc, char** argv) {
       for (int k = 0; k < 3; ++k) sim.step(1.0);  // warm caches and allocations
       const mf::StageTimes before = sim.stageTimes();
       const uint64_t steps0 = sim.stepCount();
+      const uint64_t iterations0 = sim.counters().pressureIterations + sim.counters().divergenceIterations;
       double particleSteps = 0;
       const auto t0 = std::chrono::steady_clock::now();
       double elapsed = 0;
@@ -88,16 +91,17 @@ int main(int argc, char** argv) {
       const uint64_t steps = sim.stepCount() - steps0;
       const mf::StageTimes& after = sim.stageTimes();
       auto share = [&](double a, double b) { return fmt::format("{:>6.1f}%", 100 * (a - b) / elapsed); };
-      double pressure = 0, viscosity = 0, pressure0 = 0, viscosity0 = 0;
+      double pressure = after.pressure, viscosity = 0, pressure0 = before.pressure, viscosity0 = 0;
       for (size_t k = 0; k < sim.effects().size(); ++k) {
         const std::string name = sim.effects()[k]->name();
         const double b = k < before.effect.size() ? before.effect[k] : 0;
-        if (name == "pressure") pressure = after.effect[k], pressure0 = b;
+        if (name == "pressure") pressure += after.effect[k], pressure0 += b;
         if (name == "viscosity") viscosity = after.effect[k], viscosity0 = b;
       }
-      fmt::print("{:>9} {:>7} {:>6} {:>9.0f} {:>10.1f} {:>8.1f} | {} {} {} {} {} | {:>9.0f}\n", sim.particles().size(), t,
+      const uint64_t iterations = sim.counters().pressureIterations + sim.counters().divergenceIterations - iterations0;
+      fmt::print("{:>9} {:>7} {:>6} {:>9.0f} {:>10.1f} {:>8.1f} {:>7.1f} | {} {} {} {} {} | {:>9.0f}\n", sim.particles().size(), t,
                  steps, elapsed * 1e9 / particleSteps, steps / elapsed,
-                 double(sim.fluidNeighbors().totalPairs()) / double(sim.particles().size()),
+                 double(sim.fluidNeighbors().totalPairs()) / double(sim.particles().size()), double(iterations) / double(steps),
                  share(after.neighborSearch, before.neighborSearch), share(after.density, before.density),
                  share(pressure, pressure0), share(viscosity, viscosity0), share(after.integrate, before.integrate),
                  peakMiB());
