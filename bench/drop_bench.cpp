@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -62,9 +63,7 @@ std::string phase(const std::string& name, const std::string& extra) {
 
 std::string dropScene(const std::string& solver, Real R, Real endTime) {
   const std::string sphere = fmt::format("shape = \"sphere\"\ncentre = [0.0, 0.0, 0.0]\nradius = {}\n", R);
-  if (!medium)
-    return sceneHead(solver, endTime, 0.5) + phase("water", fmt::format("surface_tension = {}", kSigma)) +
-           "[[fluid]]\nphase = \"water\"\n" + sphere + "[effects.pressure]\n[effects.viscosity]\n[effects.surface_tension]\n";
+  if (!medium) return freeDropScene(solver, R, kSpacing, kSigma, endTime);
   const Real L = mediumHalfWidth(R);
   return sceneHead(solver, endTime, L) + phase("medium", "interface_colour = -0.5") + phase("drop", "interface_colour = 0.5") +
          fmt::format(R"([[solid]]
@@ -167,17 +166,6 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
              solver, R, sim.particles().size(), sim.counters().steps, pressure, laplace, pressure / laplace, tension);
 }
 
-// The n = 2 mode's potential flow, phi = A P2 r^2 about the x axis, inside the drop; outside it
-// (in a medium) the decaying one, phi = C P2 / r^3, with C = -2 A R^5 / 3 so that the radial
-// velocity is continuous at R. The surface then moves by 2 A R P2 (cos theta) / omega at most.
-Vec3 modeVelocity(const Vec3& d, Real A, Real R, bool inside) {
-  if (inside) return Vec3(2 * A * d.x, -A * d.y, -A * d.z);
-  const Real r2 = lengthSquared(d), r = std::sqrt(r2), r5 = r2 * r2 * r, f = 0.5 * (3 * d.x * d.x - r2);
-  const Real C = -2 * A * R * R * R * R * R / 3;
-  // grad (f / r^5) = grad f / r^5 - 5 f d / r^7
-  return (Vec3(2 * d.x, -d.y, -d.z) * (1 / r5) - d * (5 * f / (r5 * r2))) * C;
-}
-
 // The n = 2 period. A drop seeded on the lattice does not oscillate from a stretched start: the
 // lattice holds it for a quarter second and then lets go all at once. So the sphere rests first
 // (`relax` seconds), then gets the mode's potential flow with an amplitude of 20 % of R, and the
@@ -195,49 +183,25 @@ void oscillatingDrop(const std::string& solver, Real R0, Real relax, const std::
   const size_t seeded = dropCount(sim.particles());
   const Real R = std::cbrt(3 * Real(seeded) * kSpacing * kSpacing * kSpacing / (4 * kPi));
   const Real omega = std::sqrt(stiffness * kSigma / (kRho * R * R * R)), theory = 2 * kPi / omega;
-  const auto quadrupole = [](const ParticleSet& q) {
-    const Vec3 c = centroid(q);
-    Real m = 0;
-    for (size_t i = 0; i < q.size(); ++i) {
-      const Vec3 d = q.position[i] - c;
-      if (inDrop(q, i)) m += d.x * d.x - 0.5 * (d.y * d.y + d.z * d.z);
-    }
-    return m;
-  };
+  const auto inDrop = [&sim](size_t i) { return !medium || sim.particles().phase[i] == 1; };
   sim.advanceTo(relax);
-  {
-    ParticleSet& q = sim.mutableParticles();
-    const Vec3 c = centroid(q);
-    const Real A = amplitude * omega / 2;
-    for (size_t i = 0; i < q.size(); ++i) q.velocity[i] = modeVelocity(q.position[i] - c, A, R, inDrop(q, i));
-    sim.refresh();
-  }
+  kickQuadrupoleMode(sim.mutableParticles(), inDrop, centroid(sim.particles()), R, omega, amplitude);
+  sim.refresh();
   // The same flow from rest would stretch a sphere of N particles to Q = N R^2 (3 amplitude) / 5.
-  const Real expected = Real(dropCount(sim.particles())) * R * R * 3 * amplitude / 5;
+  const Real expected = Real(seeded) * R * R * 3 * amplitude / 5;
   std::vector<Real> ts, qs;
   Real lastT = relax;
   sim.advanceTo(end, [&](const Simulation& s) {
-    const Real t = s.time() - relax, m = quadrupole(s.particles());
+    const Real t = s.time() - relax, m = quadrupoleMoment(s.particles(), inDrop);
     ts.push_back(t), qs.push_back(m);
     if (trace && std::floor(t / 0.02) != std::floor((lastT - relax) / 0.02)) fmt::print("  t {:.3f} s  Q {:+.4e} m^2\n", t, m);
     lastT = s.time();
   });
-  std::vector<Real> maxima, minima;
-  Real largest = 0;
-  const Real window = 0.25 * guess;
-  for (size_t k = 0; k < ts.size(); ++k) {
-    if (ts[k] < window || ts[k] > ts.back() - window) continue;
-    bool isMax = true, isMin = true;
-    for (size_t j = 0; j < ts.size(); ++j)
-      if (std::abs(ts[j] - ts[k]) <= window) isMax = isMax && qs[j] <= qs[k], isMin = isMin && qs[j] >= qs[k];
-    if (isMax) maxima.push_back(ts[k]);
-    if (isMin) minima.push_back(ts[k]);
-    largest = std::max(largest, std::abs(qs[k]));
-  }
+  const Oscillation o = oscillationOf(ts, qs, 0.25 * guess);
+  const Real largest = o.largest;
   const std::string line = fmt::format("{:<6} n = 2  R = {:.4f} m{} ({:5} particles, {} flew off, {:4} steps, kicked after {:.1f} s): ", solver, R,
                                        medium ? " in a medium" : "", seeded, seeded - dropCount(sim.particles()), sim.counters().steps, relax);
   const std::string name = medium ? "Lamb" : "Rayleigh";
-  const size_t spans = (maxima.size() > 1 ? maxima.size() - 1 : 0) + (minima.size() > 1 ? minima.size() - 1 : 0);
   // Over 1 % of the particles gone from the domain, or an extreme three times the kick's: the drop
   // came apart.
   const size_t kept = dropCount(sim.particles());
@@ -246,17 +210,13 @@ void oscillatingDrop(const std::string& solver, Real R0, Real relax, const std::
     return;
   }
   // An extreme under a quarter of the kick's is noise, not the mode.
-  if (spans == 0 || largest < 0.25 * expected) {
+  if (std::isnan(o.period) || largest < 0.25 * expected) {
     fmt::print("{}no oscillation: |Q| at most {:.2e} m^2 against the kick's {:.2e} ({}'s period {:.3f} s)\n", line, largest, expected,
                name, theory);
     return;
   }
-  Real sum = 0;
-  for (size_t k = 1; k < maxima.size(); ++k) sum += maxima[k] - maxima[k - 1];
-  for (size_t k = 1; k < minima.size(); ++k) sum += minima[k] - minima[k - 1];
-  const Real period = sum / Real(spans);
-  fmt::print("{}period {:.3f} s ({} maxima, {} minima; largest |Q| {:.2f} of the kick's), {} {:.3f} s, ratio {:.3f}\n", line, period,
-             maxima.size(), minima.size(), largest / expected, name, theory, period / theory);
+  fmt::print("{}period {:.3f} s ({} maxima, {} minima; largest |Q| {:.2f} of the kick's), {} {:.3f} s, ratio {:.3f}\n", line, o.period,
+             o.maxima, o.minima, largest / expected, name, theory, o.period / theory);
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace mf::report {
 
 namespace {
 
-const std::vector<std::string> kNames = {"dam_break", "hydrostatic", "heat_diffusion", "layered",  // accuracy
+const std::vector<std::string> kNames = {"dam_break", "hydrostatic", "heat_diffusion", "layered", "static_drop",  // accuracy
                                          "stiffness", "density_tolerance", "density_ratio", "viscosity", "dt_factor",
                                          "temperature", "spacing"};  // stability
 
@@ -24,7 +24,8 @@ void usage(std::FILE* to) {
              "usage: multifluid report accuracy|stability|all [--out DIR] [--quick] [--threads N] [--only NAME,...] [--no-plots]\n"
              "\n"
              "accuracy:  error against run time on reference problems (dam_break against Martin & Moyce 1952,\n"
-             "           hydrostatic, heat_diffusion against erf, layered two fluids), a ladder of settings each, run\n"
+             "           hydrostatic, heat_diffusion against erf, layered two fluids, static_drop against Laplace and\n"
+             "           Rayleigh), a ladder of settings each, run\n"
              "           with both pressure solvers (wcsph, dfsph); writes DIR/accuracy.md, DIR/accuracy_<problem>.csv\n"
              "           and .png (error against wall time, each solver's Pareto front marked).\n"
              "stability: sweeps of stiffness (DFSPH: density_tolerance), density ratio, viscosity, time-step factor,\n"
@@ -32,7 +33,7 @@ void usage(std::FILE* to) {
              "           DIR/stability.csv, DIR/stability.png (compression) and DIR/stability_energy.png (energy growth).\n"
              "--quick    a small ladder (what CI runs: about 1.5 min on a loaded 2-core machine); the default is the full one\n"
              "           (WCSPH alone took about 30 minutes on 2 busy cores; DFSPH's rungs come on top).\n"
-             "--only     problems (dam_break, hydrostatic, heat_diffusion, layered) or sweeps (stiffness,\n"
+             "--only     problems (dam_break, hydrostatic, heat_diffusion, layered, static_drop) or sweeps (stiffness,\n"
              "           density_tolerance, density_ratio, viscosity, dt_factor, temperature, spacing) to run;\n"
              "           stiffness also runs its DFSPH counterpart density_tolerance.\n"
              "--no-plots write the gnuplot scripts but do not run gnuplot.\n"

@@ -242,7 +242,7 @@ std::string section(const Problem& p, Table t, const std::vector<Measured>& r, c
                                 "{} at the start, {} at the end.*\n\n{}\n\n**Error**: {}.\n\n",
                                 p.name, p.title, info.commandLine, info.date, info.ladder, formatDuration(info.seconds),
                                 info.machine, info.loadStart, info.loadEnd, p.method, p.errorDefinition);
-  if (p.altExtra >= 0) out += shiftNote() + "\n";
+  if (p.name == "dam_break") out += shiftNote() + "\n";
   if (!p.dfsphNote.empty()) out += "**DFSPH rungs**: " + p.dfsphNote + "\n\n";
   out += fmt::format("![error against wall time](accuracy_{}.png)\n\n", p.name);
   std::vector<std::string> cols = {"solver", "setting", "particles", "steps", "wall_s", "cpu_s", "load_1min", "error"};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 
+#include "report_run.h"
 #include "report_util.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -18,29 +19,6 @@ const std::vector<std::string>& solverNames() {
   static const std::vector<std::string> names = {"wcsph", "dfsph"};
   return names;
 }
-
-namespace {
-
-
-constexpr double kG = 9.81;
-
-// Wall time of construction and stepping; the time our own per-step measurements take is
-// subtracted so that the figures are what a user's run would cost.
-struct Stopwatch {
-  Clock::time_point t0 = Clock::now();
-  double cpu0 = processCpuSeconds();
-  double excluded = 0, excludedCpu = 0;
-  double elapsed() const { return secondsSince(t0) - excluded; }
-  double cpu() const { return processCpuSeconds() - cpu0 - excludedCpu; }
-  template <class F>
-  void exclude(F&& f) {
-    const auto c0 = Clock::now();
-    const double cpu = processCpuSeconds();
-    f();
-    excluded += secondsSince(c0);
-    excludedCpu += processCpuSeconds() - cpu;
-  }
-};
 
 // The rung's solver and time-step factor as scene overrides. solver.cfl means a different limit
 // per solver (WCSPH: sound plus flow speed over h; DFSPH: flow speed over the spacing, see
@@ -78,6 +56,10 @@ Measured runCase(const Scene& scene, const std::function<void(Simulation&, Stopw
   m.steps = sim.stepCount();
   return m;
 }
+
+namespace {
+
+constexpr double kG = 9.81;
 
 // ---- dam break against Martin & Moyce (1952) ---------------------------------------------------
 
@@ -362,6 +344,8 @@ Measured runLayered(const Setting& s) {
 
 // ---- the ladders ------------------------------------------------------------------------------
 
+}  // namespace
+
 Setting rung(double spacing, double f, std::string variant, const std::string& spacingName, const std::string& solver) {
   Setting s{spacing, f, std::move(variant), "", solver};
   s.label = fmt::format("{} f={}{}", spacingName, f, s.variant.empty() ? "" : " " + s.variant);
@@ -369,8 +353,6 @@ Setting rung(double spacing, double f, std::string variant, const std::string& s
 }
 
 std::string mm(double spacing) { return fmt::format("{:.3g}mm", spacing * 1000); }
-
-}  // namespace
 
 std::vector<Problem> problems(bool quick) {
   std::vector<Problem> list;
@@ -463,6 +445,7 @@ std::vector<Problem> problems(bool quick) {
     }
     list.push_back(p);
   }
+  list.push_back(staticDropProblem(quick));
   return list;
 }
 

@@ -152,4 +152,87 @@ double mechanicalEnergy(const Simulation& sim) {
   return e;
 }
 
+std::string freeDropScene(const std::string& solver, double R, double spacing, double sigma, double endTime) {
+  return fmt::format(R"([scene]
+name = "drop"
+end_time = {end}
+domain_min = [-0.5, -0.5, -0.5]
+domain_max = [0.5, 0.5, 0.5]
+[solver]
+particle_spacing = {s}
+max_dt = 0.005
+pressure = "{solver}"
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 100.0
+viscosity = 0.01
+surface_tension = {sigma}
+[[fluid]]
+phase = "water"
+shape = "sphere"
+centre = [0.0, 0.0, 0.0]
+radius = {R}
+[effects.pressure]
+[effects.viscosity]
+[effects.surface_tension]
+)",
+                     fmt::arg("end", tomlReal(endTime)), fmt::arg("s", tomlReal(spacing)), fmt::arg("solver", solver),
+                     fmt::arg("sigma", tomlReal(sigma)), fmt::arg("R", tomlReal(R)));
+}
+
+double quadrupoleMoment(const ParticleSet& q, const std::function<bool(size_t)>& inDrop) {
+  Vec3 c;
+  size_t n = 0;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (inDrop(i)) c += q.position[i], ++n;
+  if (n == 0) return 0;
+  c = c * (1.0 / double(n));
+  double m = 0;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (inDrop(i)) {
+      const Vec3 d = q.position[i] - c;
+      m += d.x * d.x - 0.5 * (d.y * d.y + d.z * d.z);
+    }
+  return m;
+}
+
+void kickQuadrupoleMode(ParticleSet& q, const std::function<bool(size_t)>& inDrop, const Vec3& centre, double R, double omega,
+                        double amplitude) {
+  const double A = amplitude * omega / 2, C = -2 * A * std::pow(R, 5) / 3;
+  for (size_t i = 0; i < q.size(); ++i) {
+    const Vec3 d = q.position[i] - centre;
+    if (inDrop(i)) {
+      q.velocity[i] = Vec3(2 * A * d.x, -A * d.y, -A * d.z);
+      continue;
+    }
+    // grad (f / r^5) = grad f / r^5 - 5 f d / r^7, f = (3 x^2 - r^2) / 2
+    const double r2 = lengthSquared(d), r5 = r2 * r2 * std::sqrt(r2), f = 0.5 * (3 * d.x * d.x - r2);
+    q.velocity[i] = (Vec3(2 * d.x, -d.y, -d.z) * (1 / r5) - d * (5 * f / (r5 * r2))) * C;
+  }
+}
+
+Oscillation oscillationOf(const std::vector<double>& t, const std::vector<double>& q, double window) {
+  Oscillation o;
+  if (t.empty()) return o;
+  std::vector<double> maxima, minima;
+  for (size_t k = 0; k < t.size(); ++k) {
+    if (t[k] < t.front() + window || t[k] > t.back() - window) continue;
+    bool isMax = true, isMin = true;
+    for (size_t j = 0; j < t.size(); ++j)
+      if (std::fabs(t[j] - t[k]) <= window) isMax = isMax && q[j] <= q[k], isMin = isMin && q[j] >= q[k];
+    if (isMax) maxima.push_back(t[k]);
+    if (isMin) minima.push_back(t[k]);
+    o.largest = std::max(o.largest, std::fabs(q[k]));
+  }
+  o.maxima = maxima.size(), o.minima = minima.size();
+  const size_t spans = (maxima.size() > 1 ? maxima.size() - 1 : 0) + (minima.size() > 1 ? minima.size() - 1 : 0);
+  if (spans == 0) return o;
+  double sum = 0;
+  for (size_t k = 1; k < maxima.size(); ++k) sum += maxima[k] - maxima[k - 1];
+  for (size_t k = 1; k < minima.size(); ++k) sum += minima[k] - minima[k - 1];
+  o.period = sum / double(spans);
+  return o;
+}
+
 }  // namespace mf

@@ -3,7 +3,11 @@
 // and the tests' limits measure the same thing.
 #pragma once
 
+#include <cstddef>
+#include <functional>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include "vec3.h"
 
@@ -46,6 +50,33 @@ struct WrongSide {
   double fraction() const { return heavyMass + lightMass > 0 ? (heavy + light) / (heavyMass + lightMass) : 0; }
 };
 WrongSide massOnTheWrongSide(const ParticleSet& particles, int heavyPhase, double spacing);
+
+/// A free drop of water (rho0 1000, k 100 for WCSPH, mu 0.01 Pa s, surface tension sigma) of radius
+/// R about the origin, in zero gravity, in a domain 1 m wide: the yardstick of bench/drop_bench and
+/// of `report accuracy`'s static drop.
+std::string freeDropScene(const std::string& solver, double R, double spacing, double sigma, double endTime);
+
+/// The n = 2 mode about the x axis of the particles `inDrop` selects: Q = sum (x^2 - (y^2 + z^2)/2)
+/// about their centroid.
+double quadrupoleMoment(const ParticleSet& particles, const std::function<bool(size_t)>& inDrop);
+
+/// Starts a drop of radius R centred at `centre` in its n = 2 mode: inside (inDrop) the mode's
+/// potential flow phi = A P2 r^2 about the x axis, outside the decaying one, phi = C P2 / r^3 with
+/// C = -2 A R^5 / 3 (the radial velocity continuous at R); A = amplitude omega / 2, so that the
+/// surface would move by `amplitude` R at the poles. A sphere moved that way reaches
+/// Q = 3 amplitude N R^2 / 5.
+void kickQuadrupoleMode(ParticleSet& particles, const std::function<bool(size_t)>& inDrop, const Vec3& centre, double R,
+                        double omega, double amplitude);
+
+/// The period of a sampled oscillation q(t): the mean spacing of successive maxima and of
+/// successive minima, each the extreme of q within `window` either side (samples closer than
+/// `window` to either end are not candidates). NaN where no two maxima or two minima were found.
+struct Oscillation {
+  double period = std::numeric_limits<double>::quiet_NaN();
+  size_t maxima = 0, minima = 0;
+  double largest = 0;  // the largest |q| among the candidates
+};
+Oscillation oscillationOf(const std::vector<double>& t, const std::vector<double>& q, double window);
 
 /// A number as a TOML float ("1.0", not "1"), 10 significant digits.
 std::string tomlReal(double v);
