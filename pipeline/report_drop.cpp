@@ -38,15 +38,8 @@ Measured runStaticDrop(const Setting& s) {
     sim.advanceTo(kRelax, [&](const Simulation& x) {
       if (x.time() <= kStaticFrom || x.time() > kStaticTo) return;
       sw.exclude([&] {
-        const ParticleSet& q = x.particles();
-        Vec3 c;
-        for (const Vec3& p : q.position) c += p;
-        c = c * (1.0 / double(q.size()));
-        double sum = 0;
-        int n = 0;
-        for (size_t i = 0; i < q.size(); ++i)
-          if (length(q.position[i] - c) < 0.5 * R) sum += q.mechanicalPressure(i), ++n;
-        if (n) pressure += sum / n, ++samples;
+        const double p = meanPressureNearCentroid(x.particles(), 0.5 * R);
+        if (!std::isnan(p)) pressure += p, ++samples;
       });
     });
     sw.exclude([&] {

@@ -181,6 +181,17 @@ radius = {R}
                      fmt::arg("sigma", tomlReal(sigma)), fmt::arg("R", tomlReal(R)));
 }
 
+double meanPressureNearCentroid(const ParticleSet& q, double radius) {
+  Vec3 c;
+  for (const Vec3& x : q.position) c += x;
+  c = c * (1.0 / double(q.size()));
+  double sum = 0;
+  int count = 0;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (length(q.position[i] - c) < radius) sum += q.mechanicalPressure(i), ++count;
+  return count ? sum / count : std::numeric_limits<double>::quiet_NaN();
+}
+
 double quadrupoleMoment(const ParticleSet& q, const std::function<bool(size_t)>& inDrop) {
   Vec3 c;
   size_t n = 0;

@@ -56,6 +56,10 @@ WrongSide massOnTheWrongSide(const ParticleSet& particles, int heavyPhase, doubl
 /// of `report accuracy`'s static drop.
 std::string freeDropScene(const std::string& solver, double R, double spacing, double sigma, double endTime);
 
+/// The mean pressure (ParticleSet::mechanicalPressure: on DFSPH both solves') of the particles
+/// within `radius` of the particles' centroid; NaN when none is.
+double meanPressureNearCentroid(const ParticleSet& particles, double radius);
+
 /// The n = 2 mode about the x axis of the particles `inDrop` selects: Q = sum (x^2 - (y^2 + z^2)/2)
 /// about their centroid.
 double quadrupoleMoment(const ParticleSet& particles, const std::function<bool(size_t)>& inDrop);

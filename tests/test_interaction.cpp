@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <numeric>
 
+#include "sim/diagnostics.h"
 #include "sim/effects/builtin.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -246,15 +247,7 @@ radius = 0.0745
   Real pressure = 0;
   int samples = 0;
   sim.advanceTo(1.0, [&](const Simulation& s) {
-    const ParticleSet& q = s.particles();
-    Vec3 c;
-    for (const Vec3& x : q.position) c += x;
-    c = c * (1.0 / Real(q.size()));
-    Real sum = 0;
-    int count = 0;
-    for (size_t i = 0; i < q.size(); ++i)
-      if (length(q.position[i] - c) < 0.03) sum += q.pressure[i], ++count;
-    pressure += sum / count;
+    pressure += meanPressureNearCentroid(s.particles(), 0.03);  // WCSPH: the state equation's pressure
     ++samples;
   });
   pressure /= samples;
