@@ -90,6 +90,7 @@ void bilateralFilter(GridT& grid, int radius, double spatialSigma, double rangeS
   using LeafT = typename TreeT::LeafNodeType;
   constexpr int kLeafDim = int(LeafT::DIM);
   const int pad = kLeafDim + 2 * radius;  // each leaf and the stencil's reach around it
+  const int reach = (radius + kLeafDim - 1) / kLeafDim;  // neighbour leaves either side that the block meets
   // Stencil offsets as strides into a leaf's padded copy.
   std::vector<int> tapOffset;
   std::vector<double> tapWeight;
@@ -109,9 +110,9 @@ void bilateralFilter(GridT& grid, int radius, double spatialSigma, double rangeS
       // that the taps below read an array instead of the tree.
       block.resize(size_t(pad) * pad * pad);
       const openvdb::Coord origin = leaf.origin() - openvdb::Coord(radius);
-      for (int nz = -1; nz <= 1; ++nz)
-        for (int ny = -1; ny <= 1; ++ny)
-          for (int nx = -1; nx <= 1; ++nx) {
+      for (int nz = -reach; nz <= reach; ++nz)
+        for (int ny = -reach; ny <= reach; ++ny)
+          for (int nx = -reach; nx <= reach; ++nx) {
             const openvdb::Coord other = leaf.origin() + openvdb::Coord(nx * kLeafDim, ny * kLeafDim, nz * kLeafDim);
             // The part of that leaf inside the padded block, in block coordinates.
             int lo[3], hi[3];
