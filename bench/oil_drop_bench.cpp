@@ -19,10 +19,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "sim/bodies.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -30,13 +30,6 @@
 namespace {
 
 using namespace mf;
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) v.push_back(item);
-  return v;
-}
 
 struct Liquids {
   PhaseSpec water, oil;
@@ -167,7 +160,7 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
-    if (a == "--particles" && more) counts = split(argv[++i]);
+    if (a == "--particles" && more) counts = bench::splitCommas(argv[++i]);
     else if (a == "--width" && more) width = std::stod(argv[++i]);
     else if (a == "--end" && more) end = std::stod(argv[++i]);
     else if (a == "--set" && more) sets.push_back(argv[++i]);

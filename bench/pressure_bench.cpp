@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -74,13 +75,6 @@ struct Result {
   double peakMiB = 0;
   bool ok = false;
 };
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) v.push_back(item);
-  return v;
-}
 
 // Runs `body` in a child whose stdout is returned; the peak RSS comes from wait4.
 template <class Body>
@@ -206,8 +200,8 @@ int main(int argc, char** argv) {
     if (a == "--end") end = std::stod(v);
     else if (a == "--threads") {
       threads.clear();
-      for (const auto& t : split(v)) threads.push_back(std::stoi(t));
-    } else if (a == "--solvers") solvers = split(v);
+      for (const auto& t : mf::bench::splitCommas(v)) threads.push_back(std::stoi(t));
+    } else if (a == "--solvers") solvers = mf::bench::splitCommas(v);
     else if (a == "--peer") peer = v;
     else if (a == "--set") sets.push_back(v);
     else {

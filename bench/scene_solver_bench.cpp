@@ -14,10 +14,10 @@
 #include <algorithm>
 #include <chrono>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -88,13 +88,6 @@ Result run(const std::string& name, const std::string& solver, double end, const
   return r;
 }
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) v.push_back(item);
-  return v;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -110,8 +103,8 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (a == "--end") end = std::stod(argv[++i]);
-    else if (a == "--scenes") scenes = split(argv[++i]);
-    else if (a == "--solvers") solvers = split(argv[++i]);
+    else if (a == "--scenes") scenes = mf::bench::splitCommas(argv[++i]);
+    else if (a == "--solvers") solvers = mf::bench::splitCommas(argv[++i]);
     else if (a == "--threads") threads = std::stoi(argv[++i]);
     else if (a == "--set") sets.push_back(argv[++i]);
     else {
