@@ -212,16 +212,6 @@ std::string budgetTable(const Problem& p, const std::vector<Measured>& r, bool a
   return out;
 }
 
-std::string shiftNote() {
-  return fmt::format(
-      "Time shift: the gate in the experiment did not open instantly. Columns `rms_Z_shifted` and "
-      "`rms_H_shifted` compare the simulation delayed by dT = {} (Z_sim(T - {}) against Z_exp(T); the "
-      "value Lethe's Martin-Moyce example uses, taken from there, not fitted here); `error` and `rms_H` "
-      "use no shift. `rms_H` is the residual column height at the back wall, H = h/(2a) against Table 6 "
-      "(tau = t sqrt(g/a) <= {:.2f}), a second check not used for the front.\n",
-      kDamBreakShiftT, kDamBreakShiftT, kDamBreakTMax / std::sqrt(2.0));
-}
-
 std::string frontCsv(const Problem& p, const std::vector<Measured>& r) {
   std::string out = "solver,setting,T,Z\n";
   for (size_t k = 0; k < r.size(); ++k)
@@ -242,7 +232,7 @@ std::string section(const Problem& p, Table t, const std::vector<Measured>& r, c
                                 "{} at the start, {} at the end.*\n\n{}\n\n**Error**: {}.\n\n",
                                 p.name, p.title, info.commandLine, info.date, info.ladder, formatDuration(info.seconds),
                                 info.machine, info.loadStart, info.loadEnd, p.method, p.errorDefinition);
-  if (p.name == "dam_break") out += shiftNote() + "\n";
+  if (!p.note.empty()) out += p.note + "\n";
   if (!p.dfsphNote.empty()) out += "**DFSPH rungs**: " + p.dfsphNote + "\n\n";
   out += fmt::format("![error against wall time](accuracy_{}.png)\n\n", p.name);
   std::vector<std::string> cols = {"solver", "setting", "particles", "steps", "wall_s", "cpu_s", "load_1min", "error"};

@@ -27,7 +27,7 @@ Measured runStaticDrop(const Setting& s) {
   const double guess = 2 * kPi / rayleighOmega(kRadius), end = kRelax + 3 * guess;
   const Scene scene =
       withFactor(parseScene(freeDropScene(s.solver, kRadius, s.spacing, kSigma, end), "<report:static_drop>", rungOverrides(s)), s);
-  double pressure = 0, R = 0, expected = 0;
+  double pressure = 0, R = 0;
   int samples = 0;
   size_t seeded = 0, kept = 0;
   std::vector<double> ts, qs;
@@ -56,12 +56,10 @@ Measured runStaticDrop(const Setting& s) {
   if (m.status != "ok" || samples == 0) return m;
   const double laplace = 2 * kSigma / R, ratio = pressure / samples / laplace;
   m.error = std::fabs(ratio - 1);
-  // The period, unless the drop came apart (over 1 % of it gone, or |Q| three times what the kick
-  // gives a sphere) or the kick died out (|Q| under a quarter of it).
-  expected = double(seeded) * R * R * 3 * kAmplitude / 5;
+  // The period, unless the drop came apart or the kick died out.
+  const double expected = double(seeded) * R * R * 3 * kAmplitude / 5;  // Q the kick gives a sphere
   const Oscillation o = oscillationOf(ts, qs, 0.25 * guess);
-  const bool whole = 100 * (seeded - kept) <= seeded && o.largest <= 3 * expected;
-  const double period = whole && o.largest >= 0.25 * expected ? o.period : kNaN;
+  const double period = kickOutcome(o, seeded, kept, expected) == KickOutcome::Period ? o.period : kNaN;
   const double periodRatio = period / (2 * kPi / rayleighOmega(R));
   m.extras = {std::fabs(periodRatio - 1), ratio, periodRatio, o.largest / expected};
   return m;
@@ -80,7 +78,7 @@ Problem staticDropProblem(bool quick) {
             "`effects.surface_tension` with its defaults), zero gravity, seeded on the lattice at the spacing; the scene "
             "of bench/drop_bench (sim/diagnostics.h, freeDropScene).",
             {"period_error", "pressure_ratio", "period_ratio", "largest_Q_over_kick"}, {}, runStaticDrop, 0,
-            "|period / Rayleigh's - 1|", ""};
+            "|period / Rayleigh's - 1|", "", ""};
   auto add = [&](double spacing, double f) {
     for (const auto& solver : solverNames()) p.ladder.push_back(rung(spacing, f, "", mm(spacing), solver));
   };

@@ -47,6 +47,7 @@ struct Problem {
   int altExtra = -1;       // an extra that is a second error with its own Pareto front, or -1
   std::string altName;     // its name in plots and tables
   std::string dfsphNote;   // which WCSPH rungs have no DFSPH twin, and why ("" if all do)
+  std::string note;        // a paragraph of the page after the error's definition ("" if none)
   double errorOf(const Measured& m, bool alt) const {
     return !alt ? m.error : size_t(altExtra) < m.extras.size() ? m.extras[size_t(altExtra)] : kNaN;
   }

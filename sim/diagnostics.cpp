@@ -246,4 +246,10 @@ Oscillation oscillationOf(const std::vector<double>& t, const std::vector<double
   return o;
 }
 
+KickOutcome kickOutcome(const Oscillation& o, size_t seeded, size_t kept, double kicked) {
+  if (100 * (seeded - kept) > seeded || o.largest > 3 * kicked) return KickOutcome::CameApart;
+  if (std::isnan(o.period) || o.largest < 0.25 * kicked) return KickOutcome::DiedOut;
+  return KickOutcome::Period;
+}
+
 }  // namespace mf

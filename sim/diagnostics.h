@@ -82,6 +82,12 @@ struct Oscillation {
 };
 Oscillation oscillationOf(const std::vector<double>& t, const std::vector<double>& q, double window);
 
+/// What a kicked drop did: rang with a period, came apart (over 1 % of its `seeded` particles gone,
+/// `kept` left, or an extreme of Q three times `kicked`, what the kick gives a sphere), or died out
+/// (no period, or its extremes under a quarter of `kicked`: noise, not the mode).
+enum class KickOutcome { Period, CameApart, DiedOut };
+KickOutcome kickOutcome(const Oscillation& o, size_t seeded, size_t kept, double kicked);
+
 /// A number as a TOML float ("1.0", not "1"), 10 significant digits.
 std::string tomlReal(double v);
 
