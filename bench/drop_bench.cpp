@@ -86,6 +86,20 @@ sigma = {sigma}
                      fmt::arg("m", -L), fmt::arg("L", L), fmt::arg("e", sphere), fmt::arg("sigma", kSigma));
 }
 
+// The spacing and tension the scene ends up with, --set overrides included: the references
+// (R from the particle count, 2 sigma / R, Rayleigh's period) follow them.
+struct DropFluid {
+  Real spacing, sigma;
+};
+DropFluid dropFluid(const Scene& scene) {
+  Real sigma = kSigma;
+  if (!medium) sigma = scene.phases.at(0).surfaceTension;
+  else
+    for (const EffectSpec& e : scene.effects)
+      if (e.name == "interface_tension") sigma = e.number("sigma");
+  return {scene.solver.particleSpacing, sigma};
+}
+
 bool inDrop(const ParticleSet& q, size_t i) { return !medium || q.phase[i] == 1; }
 
 size_t dropCount(const ParticleSet& q) {
@@ -103,8 +117,9 @@ Vec3 centroid(const ParticleSet& q) {
 
 void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<std::string>& sets) {
   Simulation sim(parseScene(dropScene(solver, R0, end), "drop.toml", sets));
-  const Real R = std::cbrt(3 * Real(dropCount(sim.particles())) * kSpacing * kSpacing * kSpacing / (4 * kPi));
-  const Real L = mediumHalfWidth(R0) - 3 * kSpacing;
+  const auto [spacing, sigma] = dropFluid(sim.scene());
+  const Real R = std::cbrt(3 * Real(dropCount(sim.particles())) * spacing * spacing * spacing / (4 * kPi));
+  const Real L = mediumHalfWidth(R0) - 3 * spacing;
   Real pressure = 0, cap = 0, outside = 0;
   int samples = 0;
   sim.advanceTo(end, [&](const Simulation& s) {
@@ -116,7 +131,7 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
     for (size_t i = 0; i < q.size(); ++i) {
       const Vec3 d = q.position[i] - c, x = q.position[i];
       if (!inDrop(q, i)) {  // the medium between the drop and the walls, clear of both
-        if (length(d) > R + 3 * kSpacing && std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}) < L)
+        if (length(d) > R + 3 * spacing && std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}) < L)
           out += q.mechanicalPressure(i), ++outCount;
         continue;
       }
@@ -135,11 +150,11 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
       int n[2] = {0, 0};
       for (size_t i = 0; i < q.size(); ++i) {
         const Real r = length(q.position[i] - c);
-        if (int(r / (0.5 * kSpacing)) != b) continue;
+        if (int(r / (0.5 * spacing)) != b) continue;
         const int k = inDrop(q, i);
         p[k] += q.mechanicalPressure(i), rho[k] += q.density[i] / q.restDensity[i], ++n[k];
       }
-      fmt::print("  r {:.3f}: drop {:4} p {:7.2f} rho {:.4f} | medium {:4} p {:7.2f} rho {:.4f}\n", (b + 0.5) * 0.5 * kSpacing, n[1],
+      fmt::print("  r {:.3f}: drop {:4} p {:7.2f} rho {:.4f} | medium {:4} p {:7.2f} rho {:.4f}\n", (b + 0.5) * 0.5 * spacing, n[1],
                  n[1] ? p[1] / n[1] : 0, n[1] ? rho[1] / n[1] : 0, n[0], n[0] ? p[0] / n[0] : 0, n[0] ? rho[0] / n[0] : 0);
     }
   }
@@ -147,10 +162,10 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
     fmt::print("{:<6} static R = {:.4f} m in a medium ({:5} + {:5} particles, {:4} steps): interior p = {:6.2f} Pa, outside {:6.2f} Pa, "
                "jump {:6.2f} Pa, 2 sigma/R = {:6.2f} Pa, ratio {:.3f}\n",
                solver, R, dropCount(sim.particles()), sim.particles().size() - dropCount(sim.particles()), sim.counters().steps, pressure,
-               outside, pressure - outside, 2 * kSigma / R, (pressure - outside) / (2 * kSigma / R));
+               outside, pressure - outside, 2 * sigma / R, (pressure - outside) / (2 * sigma / R));
     return;
   }
-  const Real laplace = 2 * kSigma / R, line = 2 * kPi * R * kSigma;
+  const Real laplace = 2 * sigma / R, line = 2 * kPi * R * sigma;
   // WCSPH's pressure is one of the forces, so the upper half's force is the tension's only on DFSPH.
   const std::string tension = solver == "dfsph" ? fmt::format("; upper-half tension {:.4f} N, 2 pi R sigma = {:.4f} N, ratio {:.3f}",
                                                               -cap, line, -cap / line)
@@ -170,12 +185,13 @@ void oscillatingDrop(const std::string& solver, Real R0, Real relax, const std::
   // Rayleigh's omega^2 = 8 sigma / (rho R^3); in a medium of density rho_o, Lamb's (1932, sec. 275)
   // 24 sigma / (R^3 (3 rho + 2 rho_o)), here with rho_o = rho.
   const Real stiffness = medium ? 24.0 / 5.0 : 8.0;
-  const Real guess = 2 * kPi / std::sqrt(stiffness * kSigma / (kRho * R0 * R0 * R0));
+  const auto [spacing, sigma] = dropFluid(parseScene(dropScene(solver, R0, 1), "drop.toml", sets));
+  const Real guess = 2 * kPi / std::sqrt(stiffness * sigma / (kRho * R0 * R0 * R0));
   const Real end = relax + 3 * guess;
   Simulation sim(parseScene(dropScene(solver, R0, end), "drop.toml", sets));
   const size_t seeded = dropCount(sim.particles());
-  const Real R = std::cbrt(3 * Real(seeded) * kSpacing * kSpacing * kSpacing / (4 * kPi));
-  const Real omega = std::sqrt(stiffness * kSigma / (kRho * R * R * R)), theory = 2 * kPi / omega;
+  const Real R = std::cbrt(3 * Real(seeded) * spacing * spacing * spacing / (4 * kPi));
+  const Real omega = std::sqrt(stiffness * sigma / (kRho * R * R * R)), theory = 2 * kPi / omega;
   const auto inDrop = [&sim](size_t i) { return !medium || sim.particles().phase[i] == 1; };
   sim.advanceTo(relax);
   kickQuadrupoleMode(sim.mutableParticles(), inDrop, centroid(sim.particles()), R, omega, amplitude);

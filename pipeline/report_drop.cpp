@@ -75,7 +75,7 @@ Problem staticDropProblem(bool quick) {
             "read from the maxima and minima of sum (x^2 - (y^2 + z^2) / 2) over three of Rayleigh's periods, "
             "2 pi / sqrt(8 sigma / (rho R^3)); none (empty) where the drop came apart or the kick died out",
             "A water drop of radius 5 cm (rho0 = 1000, mu = 0.01 Pa s, k = 100 for WCSPH, surface tension sigma = 1 N/m, "
-            "`effects.surface_tension` with its defaults), zero gravity, seeded on the lattice at the spacing; the scene "
+            "`effects.surface_tension` with its defaults: the fitted curvature on DFSPH, -div(n/|n|) on WCSPH), zero gravity, seeded on the lattice at the spacing; the scene "
             "of bench/drop_bench (sim/diagnostics.h, freeDropScene).",
             {"period_error", "pressure_ratio", "period_ratio", "largest_Q_over_kick"}, {}, runStaticDrop, 0,
             "|period / Rayleigh's - 1|", "", ""};

@@ -40,10 +40,10 @@ for p in dam_break hydrostatic heat_diffusion layered static_drop; do
 done
 # The dam break is measured against Martin & Moyce: a finite RMS of Z, not far off, both solvers.
 awk -F, 'NR > 1 && !($12 > 0 && $12 < 1) { exit 1 }' "$work/accuracy_dam_break.csv" || fail "dam-break error out of (0, 1): $(cat "$work/accuracy_dam_break.csv")"
-# The free drop on DFSPH is measured against Laplace and Rayleigh: its interior pressure and period
-# within a factor 2 of the textbook (measured 1.36 and 1.36 at this spacing), and only the dam
-# break carries the gate's time-shift note.
-awk -F, 'NR > 1 && $2 == "dfsph" && !($14 > 0.5 && $14 < 2 && $15 > 0.5 && $15 < 2) { exit 1 }' "$work/accuracy_static_drop.csv" || fail "static drop off: $(cat "$work/accuracy_static_drop.csv")"
+# The free drop on DFSPH is measured against Laplace and Rayleigh: its interior pressure within
+# 30 % and its period within the issue's 10 % (measured 1.24 and 1.08 at this spacing, the
+# coarsest; 0.99 and 1.07 at 1 cm), and only the dam break carries the gate's time-shift note.
+awk -F, 'NR > 1 && $2 == "dfsph" && !($14 > 0.7 && $14 < 1.3 && $15 > 0.9 && $15 < 1.1) { exit 1 }' "$work/accuracy_static_drop.csv" || fail "static drop off: $(cat "$work/accuracy_static_drop.csv")"
 [ "$(grep -c 'Time shift' "$work/accuracy.md")" -eq 1 ] || fail "the time-shift note is not the dam break's alone"
 # The watchdog's verdicts reach the table: the soft case stops with its message, the default holds.
 grep -q '^wcsph,stiffness,k=10,.*,stopped,no,.*simulation unstable at step' "$work/stability.csv" || fail "k=10 not reported as stopped"

@@ -26,6 +26,7 @@
 
 #include "../simulation.h"
 #include "builtin.h"
+#include "surface_fit.h"
 
 namespace mf::effects {
 
@@ -240,12 +241,13 @@ class InterfaceTension final : public Effect {
 
 class SurfaceTension final : public Effect {
  public:
-  SurfaceTension(std::vector<Real> sigma, Real threshold, Real wallColour, bool curvatureFromNormals, Real spacing,
+  enum class Curvature { Laplacian = 0, Divergence = 1, Fit = 2 };
+  SurfaceTension(std::vector<Real> sigma, Real threshold, Real wallColour, Curvature curvature, Real spacing,
                  Real dtLimit)
       : sigma_(std::move(sigma)),
         threshold_(threshold),
         wallColour_(wallColour),
-        curvatureFromNormals_(curvatureFromNormals),
+        curvature_(curvature),
         spacing_(spacing),
         dtLimit_(dtLimit) {}
   const char* name() const override { return "surface_tension"; }
@@ -263,6 +265,7 @@ class SurfaceTension final : public Effect {
       });
       lapResidual_ = sum;
       gradScale_ = colourGradientScale(K, s);
+      faceArea_ = latticeFaceArea(K, s);
       residualH_ = K.h;
     }
     const Real lapSelf = D.lap(0);
@@ -302,19 +305,77 @@ class SurfaceTension final : public Effect {
         sigma_i_[i] = sigma_[ps.phase[i]];
       }
     });
-    applyTensionForce(ctx, ps, normal_, lap_, sigma_i_, threshold_ / K.h, curvatureFromNormals_);
+    if (curvature_ == Curvature::Fit) applyFittedForce(ctx, ps, threshold_ / K.h);
+    else applyTensionForce(ctx, ps, normal_, lap_, sigma_i_, threshold_ / K.h, curvature_ == Curvature::Divergence);
   }
 
   Real maxTimeStep(const StepContext&, const ParticleSet&) const override { return dtLimit_; }
 
  private:
+  /// The part of a flat lattice face's surface band the threshold keeps, s sum_L |n_L| over the
+  /// layers L whose |n| passes it: the CSF force sigma kappa |n| V summed across a band that
+  /// holds all of it gives sigma kappa per unit area, one the threshold cuts gives that much of it.
+  Real latticeFaceArea(const SphKernels& K, Real s) const {
+    const Poly6Derivatives D(K);
+    const Real V = 1.0 / latticeKernelSum(K, s), minNormal = threshold_ / K.h;
+    Real area = 0;
+    for (int layer = 0; layer <= int(std::ceil(K.h / s)); ++layer) {
+      // The particle `layer` spacings below the face; its neighbours at offsets (a, b, c) s
+      // exist where they are not above the face, b <= layer.
+      const Real ny = gradScale_ * sumOverRestLattice(K, s, [&](int a, int b, int c) {
+                        const Real r2 = s * s * Real(a * a + b * b + c * c);
+                        if (b > layer || r2 >= K.h2 || r2 == 0) return 0.0;
+                        return V * D.grad(Vec3(-a * s, -b * s, -c * s), r2).y;
+                      });
+      if (std::fabs(ny) > minNormal) area += s * std::fabs(ny);
+    }
+    return area;
+  }
+
+  /// F_i = sigma kappa n_i V_i / a (CSF with a fitted curvature; a the face's share of the band,
+  /// latticeFaceArea). kappa = k1 + k2 of the quadric through the surface particles within h
+  /// whose normals face the same way (surface_fit.h). The particles' centres lie half a spacing
+  /// inside the liquid they stand for, so each principal curvature is moved out by s/2 (the
+  /// parallel surface: k / (1 + k s/2)), and bounded by 1/s, the sharpest bend the lattice resolves.
+  void applyFittedForce(const StepContext& ctx, ParticleSet& ps, Real minNormal) {
+    const SphKernels& K = ctx.kernels;
+    const NeighborLists& nf = ctx.fluidNeighbors;
+    const Real minNormal2 = minNormal * minNormal, s = spacing_, kMax = 1 / s;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, ps.size(), 256), [&](const auto& range) {
+      std::vector<SurfacePoint> points;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const Real nl2 = lengthSquared(normal_[i]);
+        if (sigma_i_[i] == 0 || nl2 <= minNormal2) continue;
+        const Vec3 ni = normal_[i] / std::sqrt(nl2), xi = ps.position[i];
+        points.assign(1, SurfacePoint{Vec3{}, 1});
+        for (uint64_t k = nf.begin(i), e = nf.end(i); k < e; ++k) {
+          const uint32_t j = nf.indices[k];
+          const Real nj2 = lengthSquared(normal_[j]);
+          if (nj2 <= minNormal2 || dot(normal_[j], ni) <= 0.5 * std::sqrt(nj2)) continue;
+          const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
+          const Real q = 1 - lengthSquared(rij) / K.h2;
+          if (q <= 0) continue;
+          points.push_back({-rij, q * q * q});
+        }
+        const PrincipalCurvatures pc = fitSurfaceCurvatures(ni, points.data(), points.size(), K.h);
+        if (!pc.valid) continue;
+        Real kappa = 0;
+        for (Real k : {pc.k1, pc.k2}) {
+          k = std::clamp(k, -kMax, kMax);
+          kappa += std::clamp(k / (1 + k * s / 2), -kMax, kMax);
+        }
+        ps.force[i] += normal_[i] * (sigma_i_[i] * kappa * ps.volume[i] / faceArea_);
+      }
+    });
+  }
+
   std::vector<Real> sigma_;  // per phase, N/m
   Real threshold_, wallColour_;
-  bool curvatureFromNormals_;
+  Curvature curvature_;
   Real spacing_, dtLimit_;
   std::vector<Vec3> normal_;
   std::vector<Real> lap_, sigma_i_;
-  Real lapResidual_ = std::numeric_limits<Real>::quiet_NaN(), residualH_ = 0, gradScale_ = 1;
+  Real lapResidual_ = std::numeric_limits<Real>::quiet_NaN(), residualH_ = 0, gradScale_ = 1, faceArea_ = 1;
 };
 
 }  // namespace
@@ -352,16 +413,20 @@ EffectInfo surfaceTensionInfo() {
   EffectInfo info{
       "surface_tension",
       "tension at free surfaces, -sigma_s lap(c_s) n/|n| (eqs. 3, 4); sigma_s per phase (surface_tension)",
-      {{"normal_threshold", 1, 0, 10, {0.2}, "1/h", "force only where |grad c_s| > threshold / h"},
-       {"curvature", 1, 0, 1, {1.0}, "", "1: kappa = -div(n/|n|) (Morris 2000); 0: the paper's lap(c) (eq. 4)", 0, true},
+      {{"normal_threshold", 1, -1, 10, {-1.0}, "1/h", "force only where |grad c_s| > threshold / h; -1: 0.6 with the fitted curvature (the lattice face's outer layer reads 1), 0.2 with the others"},
+       {"curvature", 1, -1, 2, {-1.0}, "", "2: kappa of a quadric fitted to the surface particles (surface_fit.h); 1: kappa = -div(n/|n|) (Morris 2000); 0: the paper's lap(c) (eq. 4); -1: 2 on DFSPH, 1 on WCSPH (where the fit leaves a static drop at 0.3-0.9 of Laplace's pressure)", 0, true},
        {"wall_colour", 1, 0, 1, {1.0}, "", "colour the walls count as: 1 like liquid, 0 like gas"},
        {"time_step_factor", 1, 1e-3, 10, {1.0}, "", "dt <= factor sqrt(rho dx^3 / (2 pi sigma)) (Brackbill)"}},
       [](const EffectSpec& spec, const Scene& scene) {
         std::vector<Real> sigma;
         for (const PhaseSpec& p : scene.phases) sigma.push_back(p.surfaceTension);
         const Real sigmaMax = *std::max_element(sigma.begin(), sigma.end());
-        return std::make_unique<SurfaceTension>(sigma, spec.number("normal_threshold"), spec.number("wall_colour"),
-                                                spec.number("curvature") > 0.5, scene.solver.particleSpacing,
+        int curvature = int(std::lround(spec.number("curvature")));
+        if (curvature < 0) curvature = scene.solver.pressure == PressureSolverChoice::DFSPH ? 2 : 1;
+        Real threshold = spec.number("normal_threshold");
+        if (threshold < 0) threshold = curvature == 2 ? 0.6 : 0.2;
+        return std::make_unique<SurfaceTension>(sigma, threshold, spec.number("wall_colour"),
+                                                SurfaceTension::Curvature(curvature), scene.solver.particleSpacing,
                                                 spec.number("time_step_factor") * capillaryTimeStep(scene, sigmaMax));
       }};
   info.phaseKeys = {"surface_colour", "surface_tension"};
