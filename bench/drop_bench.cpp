@@ -122,10 +122,23 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
   const Real L = mediumHalfWidth(R0) - 3 * spacing;
   Real pressure = 0, cap = 0, outside = 0;
   int samples = 0;
+  // --profile: shells half a spacing thick around the drop's centre, [medium, drop], summed over
+  // the same steps as the pressure: pressure, density, particle count, and (drop) the inward pull
+  // of the non-pressure forces.
+  constexpr int kShells = 20;
+  Real shellP[2][kShells] = {}, shellRho[2][kShells] = {}, shellN[2][kShells] = {}, shellPull[kShells] = {};
   sim.advanceTo(end, [&](const Simulation& s) {
     if (s.time() <= 0.5 * end) return;
     const ParticleSet& q = s.particles();
     const Vec3 c = centroid(q);
+    if (profile)
+      for (size_t i = 0; i < q.size(); ++i) {
+        const Vec3 d = q.position[i] - c;
+        const int b = int(length(d) / (0.5 * spacing)), k = inDrop(q, i);
+        if (b >= kShells) continue;
+        shellP[k][b] += q.mechanicalPressure(i), shellRho[k][b] += q.density[i] / q.restDensity[i], shellN[k][b] += 1;
+        if (k == 1) shellPull[b] -= dot(q.force[i], normalize(d));
+      }
     Real sum = 0, up = 0, out = 0;
     int count = 0, outCount = 0;
     for (size_t i = 0; i < q.size(); ++i) {
@@ -142,20 +155,12 @@ void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<
     if (outCount) outside += out / outCount;
   });
   pressure /= samples, cap /= samples, outside /= samples;
-  if (profile) {  // the last frame's shells, half a spacing thick, around the drop's centre
-    const ParticleSet& q = sim.particles();
-    const Vec3 c = centroid(q);
-    for (int b = 0; b < 20; ++b) {
-      Real p[2] = {0, 0}, rho[2] = {0, 0};
-      int n[2] = {0, 0};
-      for (size_t i = 0; i < q.size(); ++i) {
-        const Real r = length(q.position[i] - c);
-        if (int(r / (0.5 * spacing)) != b) continue;
-        const int k = inDrop(q, i);
-        p[k] += q.mechanicalPressure(i), rho[k] += q.density[i] / q.restDensity[i], ++n[k];
-      }
-      fmt::print("  r {:.3f}: drop {:4} p {:7.2f} rho {:.4f} | medium {:4} p {:7.2f} rho {:.4f}\n", (b + 0.5) * 0.5 * spacing, n[1],
-                 n[1] ? p[1] / n[1] : 0, n[1] ? rho[1] / n[1] : 0, n[0], n[0] ? p[0] / n[0] : 0, n[0] ? rho[0] / n[0] : 0);
+  if (profile) {  // per shell: mean pressure and density per particle, particles and inward pull per step
+    for (int b = 0; b < kShells; ++b) {
+      const auto mean = [&](const Real (&sum)[2][kShells], int k) { return shellN[k][b] > 0 ? sum[k][b] / shellN[k][b] : 0.0; };
+      fmt::print("  r {:.4f}: drop {:7.1f} p {:7.2f} rho {:.4f} pull {:8.5f} N | medium {:7.1f} p {:7.2f} rho {:.4f}\n",
+                 (b + 0.5) * 0.5 * spacing, shellN[1][b] / samples, mean(shellP, 1), mean(shellRho, 1), shellPull[b] / samples,
+                 shellN[0][b] / samples, mean(shellP, 0), mean(shellRho, 0));
     }
   }
   if (medium) {
