@@ -1,9 +1,10 @@
-// Surface tension at a free surface on the implicit solver: the fitted curvature
-// (sim/effects/surface_fit.h) against the analytic surfaces, and a free water drop against
+// Surface tension at a free surface (effects.surface_tension): the fitted curvature
+// (sim/effects/surface_fit.h) against analytic surfaces, a free water drop on DFSPH against
 // Laplace's pressure jump and Rayleigh's n = 2 period (docs/method.md, "Where it stands against
-// Laplace and Rayleigh").
+// Laplace and Rayleigh"), and a cube that becomes a sphere on WCSPH with free-surface completion.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <openvdb/tools/LevelSetMeasure.h>
 
 #include <cmath>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "sim/effects/surface_fit.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "surfacing/particle_surface.h"
 
 namespace {
 
@@ -143,6 +145,141 @@ TEST(SurfaceTension, AFreeDropOnDfsphHoldsLaplacesJumpAndRingsAtRayleighsPeriod)
   ASSERT_EQ(kickOutcome(o, seeded, sim.particles().size(), Real(seeded) * R * R * 0.6 * 0.2), KickOutcome::Period);
   fmt::print("n = 2 at R = {:.4f} m: period {:.3f} s, Rayleigh {:.3f} s\n", R, o.period, rayleigh);
   EXPECT_NEAR(o.period / rayleigh, 1, 0.1);
+}
+
+// Sphericity (Wadell): pi^(1/3) (6 V)^(2/3) / A of the surfaced particles; 1 for a sphere.
+struct Shape {
+  Real sphericity, volume;
+};
+Shape surfacedShape(const Simulation& sim) {
+  openvdb::initialize();
+  std::vector<openvdb::Vec3d> p;
+  for (const Vec3& x : sim.particles().position) p.push_back({x.x, x.y, x.z});
+  const auto surface = surfacing::particlesToSurface(p, {}, sim.particleSpacing(), SurfacingSettings{});  // the default surfacing
+  const Real area = openvdb::tools::levelSetArea(*surface.levelSet);
+  const Real volume = openvdb::tools::levelSetVolume(*surface.levelSet);
+  return {std::cbrt(kPi) * std::pow(6 * volume, 2.0 / 3.0) / area, volume};
+}
+
+std::string cubeScene(bool completion) {
+  return fmt::format(R"([scene]
+name = "cube"
+end_time = 1.0
+domain_min = [-1.0, -1.0, -1.0]
+domain_max = [1.0, 1.0, 1.0]
+[solver]
+pressure = "wcsph"  # the figures below are the state equation's (k rho0 = 1e5 Pa)
+particle_spacing = 0.01
+max_dt = 0.005
+free_surface_completion = {}
+[[phase]]
+name = "water"
+rest_density = 1000.0
+stiffness = 100.0
+viscosity = 1.0
+surface_tension = 1.0
+[[fluid]]
+phase = "water"
+min = [-0.06, -0.06, -0.06]
+max = [0.06, 0.06, 0.06]
+[effects.pressure]
+[effects.viscosity]
+[effects.surface_tension]
+)", completion);
+}
+
+TEST(SurfaceTension, FreeSurfaceCompletionIsExactOnTheLatticeFace) {
+  // The half-space table: the plane through the particle cuts off half the kernel.
+  const SphKernels K(0.02, KernelChoice::WendlandC2, 0.01);
+  const HalfSpaceMissing table(K);
+  EXPECT_NEAR(table.unscaled(table.zeta.front()), 0.5, 1e-12);
+  EXPECT_EQ(table.unscaled(0.0), 0.0);
+  // On the seeded cube, face particles (away from edges) read rho0 exactly, interior ones are
+  // untouched, and nothing reads above rho0 (edges and corners are underestimated), so the
+  // lattice starts without pressure. Without the option the outer layer reads 0.87 rho0.
+  Simulation sim(parseScene(cubeScene(true), "cube.toml"));
+  const ParticleSet& ps = sim.particles();
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Vec3 x = ps.position[i];
+    int outer = 0;
+    for (int a = 0; a < 3; ++a) outer += std::fabs(x[a]) > 0.05 ? 1 : 0;
+    if (outer <= 1) {
+      EXPECT_NEAR(ps.density[i], 1000.0, 1e-9) << x.x << " " << x.y << " " << x.z;
+    }
+    EXPECT_LE(ps.density[i], 1000.0 + 1e-9);
+  }
+}
+
+TEST(SurfaceTension, CubeBecomesSphere) {
+  // The volume is judged against the liquid's own, N s^3 = mass / rho0 (the cube is exactly
+  // 12 spacings a side), not against the surfaced cube, whose edges the surfacing rounds off
+  // (measured 0.001631 m^3, 5.6 % short). The measure itself is checked on a lattice sphere:
+  // its level set holds 0.9972 N s^3 (R = 7.45 spacings, 1736 particles); bound 0.5 %.
+  {
+    // freeDropScene seeds the lattice sphere; nothing is simulated here.
+    Simulation lattice(parseScene(freeDropScene("wcsph", 0.0745, 0.01, 1.0, 1.0), "lattice_sphere.toml"));
+    const Real nominal = Real(lattice.particles().size()) * 1e-6;
+    EXPECT_NEAR(surfacedShape(lattice).volume / nominal, 1.0, 0.005);
+  }
+  Simulation sim(parseScene(cubeScene(true), "cube.toml"));
+  const Real nominal = Real(sim.particles().size()) * 1e-6;  // 0.001728 m^3
+  const Shape cube = surfacedShape(sim);
+  sim.advanceTo(0.5);
+  // Mean pressure inside r < 3 cm, averaged over the steps of the second half second (the drop
+  // still rings, so one instant says little).
+  Real pressure = 0;
+  int samples = 0;
+  sim.advanceTo(1.0, [&](const Simulation& s) {
+    pressure += meanPressureNearCentroid(s.particles(), 0.03);  // WCSPH: the state equation's pressure
+    ++samples;
+  });
+  pressure /= samples;
+  const Shape ball = surfacedShape(sim);
+  fmt::print("cube to sphere: sphericity {:.4f} -> {:.4f}, volume {:.6f} m^3 ({:+.2f} % of N s^3), pressure {:.2f} Pa\n",
+             cube.sphericity, ball.sphericity, ball.volume, 100 * (ball.volume / nominal - 1), pressure);
+  // The issue's bound 0.95. The surfaced 12^3 cube already measures 0.93 (its edges are
+  // rounded by a particle radius), so the test also demands a clear rise. Measured 0.9943 at
+  // 1 s (the drop still rings: 0.985-1.002 between 0.5 and 2 s).
+  EXPECT_GT(ball.sphericity, 0.95);
+  EXPECT_GT(ball.sphericity, cube.sphericity + 0.04);
+  // The issue's bound: the volume changes by less than 2 %. Measured -0.04 % at 1 s; between
+  // -1.0 % and +0.4 % from 0.5 to 2 s, and -0.6 % to -1.0 % settled (2 s) also for
+  // sigma = 0.3 N/m or k = 1000. That needs solver.free_surface_completion: see the plain run.
+  EXPECT_LT(std::fabs(ball.volume / nominal - 1), 0.02);
+  const ParticleSet& ps = sim.particles();
+  Vec3 centre;
+  for (const Vec3& x : ps.position) centre += x;
+  centre = centre * (1.0 / Real(ps.size()));
+  Real interior = 0;
+  int n = 0;
+  Real farthest = 0;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const Real r = length(ps.position[i] - centre);
+    farthest = std::max(farthest, r);
+    if (r < 0.03) interior += ps.density[i], ++n;
+  }
+  interior /= n;
+  // Interior density: the Laplace pressure over k rho0 = 1e5 Pa predicts +0.03 %; bound 0.5 %.
+  EXPECT_LT(std::fabs(interior / 1000.0 - 1), 0.005);
+  // The interior pressure is Laplace's 2 sigma / R = 26.9 Pa (R = 7.44 cm) less what the
+  // curvature estimate loses at 7 spacings' radius: measured 21.4 Pa (20-21 Pa settled at
+  // 1-2 s). Bound 35 %, to catch a tension force that is gone or doubled.
+  const Real laplace = 2 * 1.0 / std::cbrt(3 * nominal / (4 * kPi));
+  EXPECT_NEAR(pressure, laplace, 0.35 * laplace);
+  // No particle is flung off (eq. 4 as written does that: measured 0.73 m after 2 s).
+  EXPECT_LT(farthest, 0.09);
+  EXPECT_LT(length(centre), 0.01);
+
+  // Without the completion the free-surface layer's density sum is 13-27 % short on the
+  // lattice (one missing layer of neighbours), its pressure clamped at zero, so it packs under
+  // the tension's inward pull until the sum reaches rho0: the level set ends 8.8 % below
+  // N s^3 (0.001576 m^3), whatever sigma or k, while the interior stays at rho0 and its
+  // particles at the lattice's radii (measured). Kept as a check that the diagnosis holds.
+  Simulation plain(parseScene(cubeScene(false), "cube_plain.toml"));
+  plain.advanceTo(1.0);
+  const Real plainVolume = surfacedShape(plain).volume;
+  fmt::print("without free_surface_completion: volume {:.6f} m^3 ({:+.2f} %)\n", plainVolume, 100 * (plainVolume / nominal - 1));
+  EXPECT_LT(plainVolume, 0.95 * nominal);
 }
 
 }  // namespace
