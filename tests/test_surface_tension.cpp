@@ -272,8 +272,8 @@ TEST(SurfaceTension, CubeBecomesSphere) {
 
   // Without the completion the free-surface layer's density sum is 13-27 % short on the
   // lattice (one missing layer of neighbours), its pressure clamped at zero, so it packs under
-  // the tension's inward pull until the sum reaches rho0: the level set ends 8.8 % below
-  // N s^3 (0.001576 m^3), whatever sigma or k, while the interior stays at rho0 and its
+  // the tension's inward pull until the sum reaches rho0: the level set ends 8.4 % below
+  // N s^3 (0.001583 m^3), whatever sigma or k, while the interior stays at rho0 and its
   // particles at the lattice's radii (measured). Kept as a check that the diagnosis holds.
   Simulation plain(parseScene(cubeScene(false), "cube_plain.toml"));
   plain.advanceTo(1.0);
