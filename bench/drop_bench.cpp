@@ -109,16 +109,13 @@ size_t dropCount(const ParticleSet& q) {
 }
 
 Vec3 centroid(const ParticleSet& q) {
-  Vec3 c;
-  for (size_t i = 0; i < q.size(); ++i)
-    if (inDrop(q, i)) c += q.position[i];
-  return c * (1.0 / Real(dropCount(q)));
+  return centroidOf(q, [&q](size_t i) { return inDrop(q, i); });
 }
 
 void staticDrop(const std::string& solver, Real R0, Real end, const std::vector<std::string>& sets) {
   Simulation sim(parseScene(dropScene(solver, R0, end), "drop.toml", sets));
   const auto [spacing, sigma] = dropFluid(sim.scene());
-  const Real R = std::cbrt(3 * Real(dropCount(sim.particles())) * spacing * spacing * spacing / (4 * kPi));
+  const Real R = volumeRadius(dropCount(sim.particles()), spacing);
   const Real L = mediumHalfWidth(R0) - 3 * spacing;
   Real pressure = 0, cap = 0, outside = 0;
   int samples = 0;
@@ -195,14 +192,14 @@ void oscillatingDrop(const std::string& solver, Real R0, Real relax, const std::
   const Real end = relax + 3 * guess;
   Simulation sim(parseScene(dropScene(solver, R0, end), "drop.toml", sets));
   const size_t seeded = dropCount(sim.particles());
-  const Real R = std::cbrt(3 * Real(seeded) * spacing * spacing * spacing / (4 * kPi));
+  const Real R = volumeRadius(seeded, spacing);
   const Real omega = std::sqrt(stiffness * sigma / (kRho * R * R * R)), theory = 2 * kPi / omega;
   const auto inDrop = [&sim](size_t i) { return !medium || sim.particles().phase[i] == 1; };
   sim.advanceTo(relax);
   kickQuadrupoleMode(sim.mutableParticles(), inDrop, centroid(sim.particles()), R, omega, amplitude);
   sim.refresh();
   // The same flow from rest would stretch a sphere of N particles to Q = N R^2 (3 amplitude) / 5.
-  const Real expected = Real(seeded) * R * R * 3 * amplitude / 5;
+  const Real expected = kickedQuadrupole(seeded, R, amplitude);
   std::vector<Real> ts, qs;
   Real lastT = relax;
   sim.advanceTo(end, [&](const Simulation& s) {

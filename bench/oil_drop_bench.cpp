@@ -24,6 +24,7 @@
 
 #include "bench_args.h"
 #include "sim/bodies.h"
+#include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -112,12 +113,12 @@ sigma = {sigma}
 
 void risingDrop(const Liquids& l, long particles, Real width, Real end, const std::vector<std::string>& sets) {
   // The ball that holds `particles` lattice sites has about that volume.
-  const Real s = l.spacing, R = std::cbrt(3.0 * Real(particles) * s * s * s / (4 * kPi));
+  const Real s = l.spacing, R = volumeRadius(size_t(particles), s);
   Simulation sim(parseScene(sceneText(l, R, width, end), "oil_drop.toml", sets));
   const int oil = sim.scene().phaseIndex("oil");
   size_t seeded = 0;
   for (int32_t p : sim.particles().phase) seeded += p == oil;
-  const Real d = 2 * std::cbrt(3.0 * Real(seeded) * s * s * s / (4 * kPi));  // the drop's diameter by volume
+  const Real d = 2 * volumeRadius(seeded, s);  // the drop's diameter by volume
   fmt::print("oil drop of {} particles (d = {:.4f} m) in water, tank {} x 0.3 x {} m, {} particles in all\n", seeded, d, width, width,
              sim.particles().size());
   Real lastY = kCentreHeight, lastT = 0, roundSum = 0, speedSum = 0;

@@ -34,7 +34,7 @@ Measured runStaticDrop(const Setting& s) {
   const auto all = [](size_t) { return true; };
   Measured m = runCase(scene, [&](Simulation& sim, Stopwatch& sw) {
     seeded = sim.particles().size();
-    R = std::cbrt(3 * double(seeded) * std::pow(s.spacing, 3) / (4 * kPi));  // the radius of the drop's volume
+    R = volumeRadius(seeded, s.spacing);
     sim.advanceTo(kRelax, [&](const Simulation& x) {
       if (x.time() <= kStaticFrom || x.time() > kStaticTo) return;
       sw.exclude([&] {
@@ -42,11 +42,7 @@ Measured runStaticDrop(const Setting& s) {
         if (!std::isnan(p)) pressure += p, ++samples;
       });
     });
-    sw.exclude([&] {
-      Vec3 c;
-      for (const Vec3& p : sim.particles().position) c += p;
-      kickQuadrupoleMode(sim.mutableParticles(), all, c * (1.0 / double(seeded)), R, rayleighOmega(R), kAmplitude);
-    });
+    sw.exclude([&] { kickQuadrupoleMode(sim.mutableParticles(), all, centroidOf(sim.particles()), R, rayleighOmega(R), kAmplitude); });
     sim.refresh();
     sim.advanceTo(end, [&](const Simulation& x) {
       sw.exclude([&] { ts.push_back(x.time()), qs.push_back(quadrupoleMoment(x.particles(), all)); });
@@ -57,7 +53,7 @@ Measured runStaticDrop(const Setting& s) {
   const double laplace = 2 * kSigma / R, ratio = pressure / samples / laplace;
   m.error = std::fabs(ratio - 1);
   // The period, unless the drop came apart or the kick died out.
-  const double expected = double(seeded) * R * R * 3 * kAmplitude / 5;  // Q the kick gives a sphere
+  const double expected = kickedQuadrupole(seeded, R, kAmplitude);
   const Oscillation o = oscillationOf(ts, qs, 0.25 * guess);
   const double period = kickOutcome(o, seeded, kept, expected) == KickOutcome::Period ? o.period : kNaN;
   const double periodRatio = period / (2 * kPi / rayleighOmega(R));

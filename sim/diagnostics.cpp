@@ -181,10 +181,18 @@ radius = {R}
                      fmt::arg("sigma", tomlReal(sigma)), fmt::arg("R", tomlReal(R)));
 }
 
-double meanPressureNearCentroid(const ParticleSet& q, double radius) {
+double volumeRadius(size_t n, double spacing) { return std::cbrt(3 * double(n) * std::pow(spacing, 3) / (4 * kPi)); }
+
+Vec3 centroidOf(const ParticleSet& q, const std::function<bool(size_t)>& in) {
   Vec3 c;
-  for (const Vec3& x : q.position) c += x;
-  c = c * (1.0 / double(q.size()));
+  size_t n = 0;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (!in || in(i)) c += q.position[i], ++n;
+  return n ? c * (1.0 / double(n)) : c;
+}
+
+double meanPressureNearCentroid(const ParticleSet& q, double radius) {
+  const Vec3 c = centroidOf(q);
   double sum = 0;
   int count = 0;
   for (size_t i = 0; i < q.size(); ++i)
@@ -193,12 +201,7 @@ double meanPressureNearCentroid(const ParticleSet& q, double radius) {
 }
 
 double quadrupoleMoment(const ParticleSet& q, const std::function<bool(size_t)>& inDrop) {
-  Vec3 c;
-  size_t n = 0;
-  for (size_t i = 0; i < q.size(); ++i)
-    if (inDrop(i)) c += q.position[i], ++n;
-  if (n == 0) return 0;
-  c = c * (1.0 / double(n));
+  const Vec3 c = centroidOf(q, inDrop);
   double m = 0;
   for (size_t i = 0; i < q.size(); ++i)
     if (inDrop(i)) {
@@ -222,6 +225,8 @@ void kickQuadrupoleMode(ParticleSet& q, const std::function<bool(size_t)>& inDro
     q.velocity[i] = (Vec3(2 * d.x, -d.y, -d.z) * (1 / r5) - d * (5 * f / (r5 * r2))) * C;
   }
 }
+
+double kickedQuadrupole(size_t n, double R, double amplitude) { return double(n) * R * R * 3 * amplitude / 5; }
 
 Oscillation oscillationOf(const std::vector<double>& t, const std::vector<double>& q, double window) {
   Oscillation o;

@@ -56,6 +56,12 @@ WrongSide massOnTheWrongSide(const ParticleSet& particles, int heavyPhase, doubl
 /// of `report accuracy`'s static drop.
 std::string freeDropScene(const std::string& solver, double R, double spacing, double sigma, double endTime);
 
+/// The radius of a ball that holds n particles of volume spacing^3: a seeded drop's size by volume.
+double volumeRadius(size_t n, double spacing);
+
+/// The mean position of the particles `in` selects (all of them without it); the origin if none.
+Vec3 centroidOf(const ParticleSet& particles, const std::function<bool(size_t)>& in = {});
+
 /// The mean pressure (ParticleSet::mechanicalPressure: on DFSPH both solves') of the particles
 /// within `radius` of the particles' centroid; NaN when none is.
 double meanPressureNearCentroid(const ParticleSet& particles, double radius);
@@ -71,6 +77,9 @@ double quadrupoleMoment(const ParticleSet& particles, const std::function<bool(s
 /// Q = 3 amplitude N R^2 / 5.
 void kickQuadrupoleMode(ParticleSet& particles, const std::function<bool(size_t)>& inDrop, const Vec3& centre, double R,
                         double omega, double amplitude);
+
+/// Q = 3 amplitude n R^2 / 5: what kickQuadrupoleMode's flow gives a sphere of n particles.
+double kickedQuadrupole(size_t n, double R, double amplitude);
 
 /// The period of a sampled oscillation q(t): the mean spacing of successive maxima and of
 /// successive minima, each the extreme of q within `window` either side (samples closer than

@@ -94,15 +94,13 @@ struct StaticDrop {
 // against the pull along the equator, 2 pi R sigma, both averaged over the second half second.
 StaticDrop staticDrop(Real R0) {
   Simulation sim(parseScene(freeDropScene("dfsph", R0, 0.01, 1.0, 1.0), "drop.toml"));
-  const Real R = std::cbrt(3 * Real(sim.particles().size()) * 1e-6 / (4 * kPi));
+  const Real R = volumeRadius(sim.particles().size(), 0.01);
   Real pressure = 0, upper = 0;
   int samples = 0;
   sim.advanceTo(1.0, [&](const Simulation& s) {
     if (s.time() <= 0.5) return;
     const ParticleSet& q = s.particles();
-    Vec3 c;
-    for (const Vec3& x : q.position) c += x;
-    c = c * (1.0 / Real(q.size()));
+    const Vec3 c = centroidOf(q);
     Real up = 0;
     for (size_t i = 0; i < q.size(); ++i)
       if (q.position[i].y > c.y) up += q.force[i].y;  // the step's non-pressure forces: the tension
@@ -128,13 +126,11 @@ TEST(SurfaceTension, AFreeDropOnDfsphHoldsLaplacesJumpAndRingsAtRayleighsPeriod)
   const Real R0 = 0.05, relax = 1.5;
   Simulation sim(parseScene(freeDropScene("dfsph", R0, 0.01, 1.0, relax + 2.5), "drop.toml"));
   const size_t seeded = sim.particles().size();
-  const Real R = std::cbrt(3 * Real(seeded) * 1e-6 / (4 * kPi));
+  const Real R = volumeRadius(seeded, 0.01);
   const Real omega = std::sqrt(8 / (1000 * R * R * R)), rayleigh = 2 * kPi / omega;
   const auto all = [](size_t) { return true; };
   sim.advanceTo(relax);
-  Vec3 c;
-  for (const Vec3& x : sim.particles().position) c += x;
-  kickQuadrupoleMode(sim.mutableParticles(), all, c * (1.0 / Real(seeded)), R, omega, 0.2);
+  kickQuadrupoleMode(sim.mutableParticles(), all, centroidOf(sim.particles()), R, omega, 0.2);
   sim.refresh();
   std::vector<Real> ts, qs;
   sim.advanceTo(relax + 2.5, [&](const Simulation& s) {
@@ -142,7 +138,7 @@ TEST(SurfaceTension, AFreeDropOnDfsphHoldsLaplacesJumpAndRingsAtRayleighsPeriod)
     qs.push_back(quadrupoleMoment(s.particles(), all));
   });
   const Oscillation o = oscillationOf(ts, qs, 0.25 * rayleigh);
-  ASSERT_EQ(kickOutcome(o, seeded, sim.particles().size(), Real(seeded) * R * R * 0.6 * 0.2), KickOutcome::Period);
+  ASSERT_EQ(kickOutcome(o, seeded, sim.particles().size(), kickedQuadrupole(seeded, R, 0.2)), KickOutcome::Period);
   fmt::print("n = 2 at R = {:.4f} m: period {:.3f} s, Rayleigh {:.3f} s\n", R, o.period, rayleigh);
   EXPECT_NEAR(o.period / rayleigh, 1, 0.1);
 }
@@ -247,9 +243,7 @@ TEST(SurfaceTension, CubeBecomesSphere) {
   // sigma = 0.3 N/m or k = 1000. That needs solver.free_surface_completion: see the plain run.
   EXPECT_LT(std::fabs(ball.volume / nominal - 1), 0.02);
   const ParticleSet& ps = sim.particles();
-  Vec3 centre;
-  for (const Vec3& x : ps.position) centre += x;
-  centre = centre * (1.0 / Real(ps.size()));
+  const Vec3 centre = centroidOf(ps);
   Real interior = 0;
   int n = 0;
   Real farthest = 0;
