@@ -4,7 +4,7 @@
 // solves and the compression passes' iterations), the split by stage ("press." is WCSPH's pressure
 // force or DFSPH's solves) and the process's peak memory.
 //
-//   sim_bench [--particles 10000,100000,1000000] [--threads 1,2] [--seconds 3]
+//   sim_bench [--particles 10000,100000,1000000] [--threads 1,2] [--seconds 3 | --steps N]
 //             [--set key=value]...
 // Sizes run in increasing order (peak memory is the process's high-water mark).
 #include <fmt/format.h>
@@ -51,6 +51,7 @@ mf::Scene damBreak(long particles, const std::vector<std::string>& sets) {
 int main(int argc, char** argv) {
   std::vector<long> sizes = {10000, 100000, 1000000}, threads = {1, 2};
   double seconds = 3;
+  long fixedSteps = 0;  // --steps: exactly this many measured steps (the same flow for every setting)
   std::vector<std::string> sets;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -61,9 +62,10 @@ int main(int argc, char** argv) {
     if (a == "--particles") sizes = parseList(argv[++i]);
     else if (a == "--threads") threads = parseList(argv[++i]);
     else if (a == "--seconds") seconds = std::stod(argv[++i]);
+    else if (a == "--steps") fixedSteps = std::stol(argv[++i]);
     else if (a == "--set") sets.push_back(argv[++i]);
     else {
-      fmt::print(stderr, "usage: sim_bench [--particles N,N] [--threads T,T] [--seconds S] [--set key=value]\n");
+      fmt::print(stderr, "usage: sim_bench [--particles N,N] [--threads T,T] [--seconds S | --steps N] [--set key=value]\n");
       return 2;
     }
   }
@@ -83,7 +85,7 @@ int main(int argc, char** argv) {
       double particleSteps = 0;
       const auto t0 = std::chrono::steady_clock::now();
       double elapsed = 0;
-      while (elapsed < seconds || sim.stepCount() - steps0 < 3) {
+      while (fixedSteps > 0 ? sim.stepCount() - steps0 < uint64_t(fixedSteps) : (elapsed < seconds || sim.stepCount() - steps0 < 3)) {
         sim.step(1.0);
         particleSteps += double(sim.particles().size());
         elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
