@@ -17,7 +17,7 @@ namespace {
 
 const std::vector<std::string> kNames = {"dam_break", "hydrostatic", "heat_diffusion", "layered", "static_drop",  // accuracy
                                          "stiffness", "density_tolerance", "density_ratio", "viscosity", "dt_factor",
-                                         "temperature", "spacing"};  // stability
+                                         "temperature", "spacing", "surface_tension"};  // stability
 
 void usage(std::FILE* to) {
   fmt::print(to,
@@ -29,12 +29,12 @@ void usage(std::FILE* to) {
              "           with both pressure solvers (wcsph, dfsph); writes DIR/accuracy.md, DIR/accuracy_<problem>.csv\n"
              "           and .png (error against wall time, each solver's Pareto front marked).\n"
              "stability: sweeps of stiffness (DFSPH: density_tolerance), density ratio, viscosity, time-step factor,\n"
-             "           temperature range and particle spacing, each on both solvers; writes DIR/stability.md,\n"
+             "           temperature range, particle spacing and surface tension, each on both solvers; writes DIR/stability.md,\n"
              "           DIR/stability.csv, DIR/stability.png (compression) and DIR/stability_energy.png (energy growth).\n"
              "--quick    a small ladder (what CI runs: about 1.5 min on a loaded 2-core machine); the default is the full one\n"
              "           (WCSPH alone took about 30 minutes on 2 busy cores; DFSPH's rungs come on top).\n"
              "--only     problems (dam_break, hydrostatic, heat_diffusion, layered, static_drop) or sweeps (stiffness,\n"
-             "           density_tolerance, density_ratio, viscosity, dt_factor, temperature, spacing) to run;\n"
+             "           density_tolerance, density_ratio, viscosity, dt_factor, temperature, spacing, surface_tension) to run;\n"
              "           stiffness also runs its DFSPH counterpart density_tolerance.\n"
              "--no-plots write the gnuplot scripts but do not run gnuplot.\n"
              "DIR defaults to report/. Run times are measured on this machine, which the pages name.\n");

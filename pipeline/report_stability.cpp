@@ -11,7 +11,9 @@
 #include <functional>
 #include <limits>
 
+#include "report_stability_scenes.h"
 #include "report_util.h"
+#include "sim/bodies.h"
 #include "sim/diagnostics.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -32,7 +34,10 @@ struct Case {
   double value = 0;
   Scene scene;
   bool closed = true;  // no energy source: energy may only fall
+  bool oneBody = false;  // a drop: it must end as one body (kBodyShare of its particles)
 };
+
+constexpr double kBodyShare = 0.9;  // a drop with less of its particles in its largest body broke up
 
 struct Outcome {
   size_t particles = 0;
@@ -40,105 +45,13 @@ struct Outcome {
   int64_t troubleStep = -1;       // first step the watchdog retried, or the step it gave up on
   double troubleTime = kNaN;
   double maxDensityError = 0, drift = kNaN, growth = kNaN, wall = 0, cpu = 0;
+  double largestBody = kNaN;  // share of the particles in the largest body at the end (drops)
   bool stopped = false;
   std::string message;
-  std::string status;  // stable, recovered, stopped, lost particles
+  std::string status;  // stable, recovered, stopped, lost particles, broke up
   bool stable() const { return status == "stable" || status == "recovered"; }
   bool energyGrew(const Case& c) const { return c.closed && growth > kEnergyGrowthLimit; }
 };
-
-// ---- scenes ------------------------------------------------------------------------------------
-
-// Heavy water below a lighter fluid at rest (rest densities 1000 and 1000/ratio), one density
-// formulation; the light layer sits on the heavy one through the interface.
-std::string layersText(double ratio, const std::string& formulation, double endTime) {
-  return fmt::format(R"(
-[scene]
-name = "density_ratio"
-end_time = {end}
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.11]
-[solver]
-particle_spacing = 0.01
-density_formulation = "{f}"
-[[phase]]
-name = "heavy"
-rest_density = 1000.0
-stiffness = 1000.0
-viscosity = 0.1
-[[phase]]
-name = "light"
-rest_density = {light}
-stiffness = 1000.0
-viscosity = 0.1
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.1]
-[[fluid]]
-phase = "heavy"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.05, 0.1]
-[[fluid]]
-phase = "light"
-min = [0.0, 0.05, 0.0]
-max = [0.1, 0.1, 0.1]
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
-)",
-                     fmt::arg("end", tomlReal(endTime)), fmt::arg("f", formulation),
-                     fmt::arg("light", tomlReal(1000.0 / ratio)));
-}
-
-// Water (thermal expansion 1e-3/K, like the lava lamp's) at rest at 20 degrees, heated from
-// below by a source at 20 + range/2 and cooled from above by one at 20 - range/2 (rate 5/s):
-// the rest density changes under the fluid while it convects.
-std::string temperatureText(double range, double endTime) {
-  return fmt::format(R"(
-[scene]
-name = "temperature"
-end_time = {end}
-domain_min = [-0.01, -0.01, -0.01]
-domain_max = [0.11, 0.21, 0.11]
-[solver]
-particle_spacing = 0.01
-[[phase]]
-name = "water"
-rest_density = 1000.0
-stiffness = 1000.0
-viscosity = 0.1
-thermal_diffusivity = 2e-4
-thermal_expansion = 0.001
-reference_temperature = 20.0
-[[solid]]
-shape = "box"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.2, 0.1]
-[[fluid]]
-phase = "water"
-min = [0.0, 0.0, 0.0]
-max = [0.1, 0.1, 0.1]
-temperature = 20.0
-[effects.gravity]
-[effects.pressure]
-[effects.viscosity]
-[effects.heat_diffusion]
-[[effects.heat_diffusion.source]]
-min = [-1.0, -1.0, -1.0]
-max = [1.0, 0.03, 1.0]
-temperature = {hot}
-rate = 5.0
-[[effects.heat_diffusion.source]]
-min = [-1.0, 0.07, -1.0]
-max = [1.0, 1.0, 1.0]
-temperature = {cold}
-rate = 5.0
-[effects.thermal_expansion]
-)",
-                     fmt::arg("end", tomlReal(endTime)), fmt::arg("hot", tomlReal(20 + range / 2)),
-                     fmt::arg("cold", tomlReal(20 - range / 2)));
-}
 
 // ---- the sweeps --------------------------------------------------------------------------------
 
@@ -149,11 +62,11 @@ std::vector<Case> cases(const Options& opt) {
   std::vector<Case> list;
   std::string solver, family;  // of the cases `add` makes
   auto add = [&](const std::string& sweep, const std::string& label, const std::string& parameter, double value,
-                 const std::string& text, std::vector<std::string> sets, bool closed = true) {
+                 const std::string& text, std::vector<std::string> sets, bool closed = true, bool oneBody = false) {
     if (!opt.selected(sweep) && !opt.selected(family)) return;  // --only stiffness: DFSPH's stand-in too
     sets.push_back("solver.pressure=" + solver);
     list.push_back({solver, family, sweep, label, parameter, value,
-                    parseScene(text, "<report:" + sweep + ">", sets), closed});
+                    parseScene(text, "<report:" + sweep + ">", sets), closed, oneBody});
   };
   // Each family of sweeps once per solver, WCSPH first, so that tables list the two side by side.
   auto both = [&](const std::string& name, const std::function<void(bool dfsph)>& sweepsOf) {
@@ -217,6 +130,14 @@ std::vector<Case> cases(const Options& opt) {
         add("spacing", fmt::format("s={:g}m (scene x{:g})", 0.01 * scale, scale), "solver.particle_spacing",
             0.01 * scale, closedBoxScene(false, scale, 0.01 * scale, end), {});
   });
+  both("surface_tension", [&](bool) {
+    // Surface tension of a cube of water with no gravity, from water's to 10 000 times it: the
+    // capillary time step (effects.surface_tension.time_step_factor) shrinks as 1/sqrt(sigma).
+    // The energy measured (kinetic) is not conserved here: the tension turns surface energy into it.
+    for (double sigma : q ? std::vector<double>{100} : std::vector<double>{0.0728, 1, 10, 100, 1000})
+      add("surface_tension", fmt::format("sigma={:g}", sigma), "phase.water.surface_tension", sigma,
+          tensionCubeText(sigma, end), {}, false, true);
+  });
   return list;
 }
 
@@ -227,6 +148,7 @@ std::vector<Case> cases(const Options& opt) {
 std::string classify(const Outcome& o) {
   if (o.stopped) return "stopped";
   if (o.lost > 0) return "lost particles";
+  if (o.largestBody < kBodyShare) return "broke up";
   return o.retries > 0 ? "recovered" : "stable";
 }
 
@@ -273,6 +195,14 @@ Outcome runOne(const Case& c) {
   o.retries = sim.counters().retries;
   o.lost = sim.counters().removedOutOfDomain;
   o.maxDensityError = sim.counters().maxDensityError;
+  if (c.oneBody) {
+    const ParticleSet& ps = sim.particles();
+    const std::vector<int32_t> phase(ps.phase.begin(), ps.phase.end());
+    const FluidBodies b = findBodies(ps.position.data(), phase.data(), ps.size(), 1.5 * c.scene.solver.particleSpacing);
+    size_t largest = 0;
+    for (const FluidBody& body : b.bodies) largest = std::max(largest, body.size());
+    o.largestBody = ps.size() ? double(largest) / double(ps.size()) : kNaN;
+  }
   if (e0 > 0) o.drift = (e1 - e0) / e0, o.growth = (eMax - e0) / e0;
   o.status = classify(o);
   if (o.message.empty() && o.retries > 0)
@@ -286,7 +216,7 @@ Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
   Table t;
   t.header = {"solver", "sweep", "case", "parameter", "value", "particles", "end_time_s", "status", "stable", "steps", "retries",
               "first_trouble_step", "first_trouble_time_s", "max_density_error", "energy_drift", "energy_growth_max",
-              "lost_particles", "wall_s", "cpu_s", "message"};
+              "lost_particles", "largest_body", "wall_s", "cpu_s", "message"};
   for (size_t k = 0; k < cs.size(); ++k) {
     const Case& c = cs[k];
     const Outcome& o = os[k];
@@ -294,6 +224,7 @@ Table resultTable(const std::vector<Case>& cs, const std::vector<Outcome>& os) {
            o.status, o.stable() ? "yes" : "no", std::to_string(o.steps), std::to_string(o.retries),
            o.troubleStep < 0 ? "-" : std::to_string(o.troubleStep), fmtNumber(o.troubleTime, 4),
            fmtNumber(o.maxDensityError, 3), fmtNumber(o.drift, 3), fmtNumber(o.growth, 3), std::to_string(o.lost),
+           fmtNumber(o.largestBody, 3),
            fmt::format("{:.2f}", o.wall), fmt::format("{:.2f}", o.cpu), o.message});
   }
   return t;
@@ -317,7 +248,7 @@ std::string figureScript(const Figure& f, const std::vector<Case>& cs, const std
   const int cols = int(solvers.size()), rows = int(families.size());
   std::string s = fmt::format(R"gp(set terminal pngcairo size {},{} noenhanced font "sans,9"
 set output "{}.png.tmp"
-set multiplot layout {},{} title "{}\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
+set multiplot layout {},{} title "{}\ngreen: stable; orange: recovered by watchdog retries; red: lost particles or a drop broken up; red cross: stopped by the watchdog"
 set logscale y
 set yrange [{}:{}]
 set grid ytics
@@ -407,7 +338,10 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       "- `density_ratio`: 5 cm of water under 5 cm of a fluid with rest density 1000/ratio, at rest, per density "
       "formulation.\n"
       "- `temperature`: 10 cm of water (thermal expansion 1e-3/K, diffusivity 2e-4 m^2/s) heated from below by a "
-      "source at 20 + dT/2 and cooled from above by one at 20 - dT/2 (rate 5/s).\n\n"
+      "source at 20 + dT/2 and cooled from above by one at 20 - dT/2 (rate 5/s).\n"
+      "- `surface_tension`: a 0.1 m cube of water (1 cm spacing, 1000 particles, mu = 1e-3 Pa s, k = 1000) at rest "
+      "with no gravity, pulled into a ball by its surface tension sigma (DFSPH: the fitted curvature; WCSPH: the "
+      "divergence of the normal), from water's 0.0728 N/m to 1000 N/m.\n\n"
       "**Solvers**: every sweep runs with `solver.pressure = \"wcsph\"` and again with `\"dfsph\"` (column "
       "`solver`; in the figures WCSPH left, DFSPH right, one row per sweep). DFSPH has no stiffness: in place of "
       "the `stiffness` sweep it sweeps `solver.density_tolerance` (the mean density error its constant-density "
@@ -420,22 +354,24 @@ std::string page(const Options& opt, const Machine& machine, const Table& t, con
       "for both solvers.\n\n"
       "**Columns**: `status` is `stable` (ran to the end, nothing retried), `recovered` (ran to the end; the "
       "watchdog retried steps with half the dt), `stopped` (the watchdog gave up after `solver.max_retries` "
-      "halvings and threw its message, quoted below) or `lost particles` (particles left the domain); `stable` "
+      "halvings and threw its message, quoted below), `lost particles` (particles left the domain) or `broke up` "
+      "(a drop ended with under {:.0f} % of its particles in its largest body, `largest_body`: bodies linked within "
+      "1.5 spacings, as issue 23 counts them); `stable` "
       "is yes for the first two. `max_density_error` is the largest (rho - rho0)/rho0 after any accepted step "
       "(Simulation counters; the watchdog rejects steps above 0.5). Energy E = kinetic + gravitational (above "
       "the floor) + elastic, the last k (ln(rho/rho0) + rho0/rho - 1) per unit mass where rho > rho0 (the work "
       "of P = k (rho - rho0) with the SPH density; for DFSPH, which has no state equation, kinetic + gravitational "
       "alone); `energy_drift` = (E_end - E_0)/E_0 and "
       "`energy_growth_max` = max over steps of (E - E_0)/E_0. A closed viscous box should only lose energy; "
-      "growth above {:.0f} % is listed under the limits (not for `temperature`, where the sources do work). "
+      "growth above {:.0f} % is listed under the limits (not for `temperature`, where the sources do work, nor for `surface_tension`, where the tension does). "
       "`first_trouble_step` is the first step the watchdog had to retry, or the step it stopped at.\n\n",
       opt.commandLine, utcNow(), machine.describe(), loadAverage(), opt.quick ? "quick (the CI check, not for conclusions)" : "full",
-      opt.quick ? 0.1 : 0.3, 100 * kEnergyGrowthLimit);
+      opt.quick ? 0.1 : 0.3, 100 * kBodyShare, 100 * kEnergyGrowthLimit);
   out += "## Limits found\n\n" + limits(cs, os) +
          "\n![largest compression per case](stability.png)\n\n![energy growth per case](stability_energy.png)\n\n"
          "## All cases\n\n";
   out += t.markdown({"solver", "sweep", "case", "particles", "status", "steps", "retries", "first_trouble_step",
-                     "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "wall_s", "cpu_s"}) +
+                     "max_density_error", "energy_drift", "energy_growth_max", "lost_particles", "largest_body", "wall_s", "cpu_s"}) +
          "\n## Watchdog messages\n\n";
   for (size_t k = 0; k < cs.size(); ++k)
     if (!os[k].message.empty()) out += fmt::format("- {} {} {}: {}\n", cs[k].solver, cs[k].sweep, cs[k].label, os[k].message);

@@ -1,6 +1,6 @@
-set terminal pngcairo size 1100,2280 noenhanced font "sans,9"
+set terminal pngcairo size 1100,2660 noenhanced font "sans,9"
 set output "stability_energy.png.tmp"
-set multiplot layout 6,2 title "Energy growth: max over steps of (E - E0)/E0 per case (up to the stop for stopped runs; dashed: 5 %)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles; red cross: stopped by the watchdog"
+set multiplot layout 7,2 title "Energy growth: max over steps of (E - E0)/E0 per case (up to the stop for stopped runs; dashed: 5 %)\ngreen: stable; orange: recovered by watchdog retries; red: lost particles or a drop broken up; red cross: stopped by the watchdog"
 set logscale y
 set yrange [0.0001:1000]
 set grid ytics
@@ -118,9 +118,9 @@ set xrange [-0.5:4.5]
 set xtics ("dT=0" 0, "dT=10" 1, "dT=100" 2, "dT=1000" 3, "dT=5000" 4)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
 0 0.00375911 7 2924588
-1 0.00401139 7 2924588
-2 0.0190798 7 2924588
-3 0.155009 7 2924588
+1 0.00419315 7 2924588
+2 0.0184937 7 2924588
+3 0.15705 7 2924588
 4 1000 2 14034728
 e
 set title "wcsph: spacing"
@@ -144,5 +144,25 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 3 0.0001 7 16744206
 4 0.0001 7 2924588
 5 0.00257572 7 2924588
+e
+set title "wcsph: surface_tension"
+set xrange [-0.5:4.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0001 7 2924588
+1 0.0001 7 2924588
+2 0.0001 7 2924588
+3 0.0001 7 14034728
+4 0.0001 2 14034728
+e
+set title "dfsph: surface_tension"
+set xrange [-0.5:4.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
+0 0.0001 7 2924588
+1 0.0001 7 2924588
+2 0.0001 7 2924588
+3 0.0001 7 2924588
+4 0.0001 7 2924588
 e
 unset multiplot
