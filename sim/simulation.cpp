@@ -321,7 +321,9 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
     }
     clampsPerBlock[r.begin() / kGrain] += clamps;
   });
-  for (uint64_t c : clampsPerBlock) counters_.wallClamps += c;
+  uint64_t clamps = 0;
+  for (uint64_t c : clampsPerBlock) clamps += c;
+  counters_.wallClamps = clampsBeforeStep_ + clamps;
   times_.integrate += since(t0);
 }
 
@@ -489,6 +491,7 @@ Real Simulation::stepWcsph(Real maxDt) {
   Real dt = std::min(chooseDt(), maxDt);
   savedPosition_ = ps_.position;
   savedVelocity_ = ps_.velocity;
+  clampsBeforeStep_ = counters_.wallClamps;
   for (int attempt = 0;; ++attempt) {
     integrate(dt, savedPosition_, savedVelocity_);
     searchAndDensity();

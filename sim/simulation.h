@@ -156,6 +156,9 @@ class Simulation {
   NeighborLists fluidNeighbors_, boundaryNeighbors_;
   std::vector<std::unique_ptr<Effect>> effects_;
   std::vector<Vec3> savedPosition_, savedVelocity_;  // watchdog snapshot
+  // The clamp count before this step: each move is made again from savedPosition_ (a retry, a
+  // compression pass), so the step's clamps are those of its last move, not the sum of its tries.
+  uint64_t clampsBeforeStep_ = 0;
   std::vector<Vec3> compressionVelocity_;            // DFSPH's second pass on compression
   std::vector<uint32_t> compressionMoved_;           // the particles that pass moves
   std::vector<char> near_;                           // densityNear's scratch

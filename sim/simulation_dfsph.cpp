@@ -75,6 +75,7 @@ Real Simulation::stepDfsph(Real maxDt) {
   Real dt = evenStep(maxDt, chooseDt());
   savedPosition_ = ps_.position;
   savedVelocity_ = ps_.velocity;
+  clampsBeforeStep_ = counters_.wallClamps;
   const std::vector<Real> savedPressure = ps_.pressure, savedDivergence = ps_.divergencePressure;
   for (int attempt = 0;; ++attempt) {
     accelerate(dt, savedVelocity_);  // v* from the non-pressure forces

@@ -108,7 +108,7 @@ TEST(Scenes, DfsphHoldsASplashInTheGlassWithoutAClamp) {
   // The glass's throw on DFSPH: the boundary samples in the solve alone keep every particle
   // inside, up to those that leave over the rim. (Not yet the vessel's: its 2.5 m/s throw leaves
   // films at rho/rho0 0.87, without pressure, sliding down the 59-degree cone below the bulge,
-  // and those cross it: 4 567 clamps, docs/pressure_solvers.md.)
+  // and those cross it: 3 500 clamps in the steps it keeps, docs/pressure_solvers.md.)
   const Crossings dfsph = throwIntoContainers(kGlass, {"solver.pressure=\"dfsph\""});
   EXPECT_EQ(dfsph.escaped, 0u);
   EXPECT_EQ(dfsph.clamps, 0u);
