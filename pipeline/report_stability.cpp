@@ -131,7 +131,7 @@ std::vector<Case> cases(const Options& opt) {
             0.01 * scale, closedBoxScene(false, scale, 0.01 * scale, end), {});
   });
   both("surface_tension", [&](bool) {
-    // Surface tension of a cube of water with no gravity, from water's to 10 000 times it: the
+    // Surface tension of a cube of water with no gravity, from water's to 14 000 times it: the
     // capillary time step (effects.surface_tension.time_step_factor) shrinks as 1/sqrt(sigma).
     // The energy measured (kinetic) is not conserved here: the tension turns surface energy into it.
     for (double sigma : q ? std::vector<double>{100} : std::vector<double>{0.0728, 1, 10, 100, 1000})
