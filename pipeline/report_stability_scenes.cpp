@@ -92,7 +92,7 @@ rate = 5.0
                      fmt::arg("cold", tomlReal(20 - range / 2)));
 }
 
-std::string tensionCubeText(double sigma, double endTime) {
+std::string tensionCubeText(double sigma, double spacing, double endTime) {
   return fmt::format(R"(
 [scene]
 name = "surface_tension"
@@ -100,7 +100,7 @@ end_time = {end}
 domain_min = [-0.5, -0.5, -0.5]
 domain_max = [0.5, 0.5, 0.5]
 [solver]
-particle_spacing = 0.01
+particle_spacing = {s}
 [[phase]]
 name = "water"
 rest_density = 1000.0
@@ -115,7 +115,7 @@ max = [0.05, 0.05, 0.05]
 [effects.viscosity]
 [effects.surface_tension]
 )",
-                     fmt::arg("end", tomlReal(endTime)), fmt::arg("sigma", tomlReal(sigma)));
+                     fmt::arg("end", tomlReal(endTime)), fmt::arg("sigma", tomlReal(sigma)), fmt::arg("s", tomlReal(spacing)));
 }
 
 }  // namespace mf::report

@@ -15,10 +15,10 @@ std::string layersText(double ratio, const std::string& formulation, double endT
 /// the rest density changes under the fluid while it convects.
 std::string temperatureText(double range, double endTime);
 
-/// A 10 cm cube of water (1 cm spacing, 1 000 particles, water's viscosity 1e-3 Pa s, k = 1000
-/// for WCSPH) at rest with no gravity and surface tension sigma (N/m): the tension pulls the
+/// A 10 cm cube of water (water's viscosity 1e-3 Pa s, k = 1000 for WCSPH; 1 000 particles at
+/// 1 cm spacing) at rest with no gravity and surface tension sigma (N/m): the tension pulls the
 /// corners in and the cube rings as a ball. The sharpest start tension can have: the corners'
 /// curvature is that of the lattice.
-std::string tensionCubeText(double sigma, double endTime);
+std::string tensionCubeText(double sigma, double spacing, double endTime);
 
 }  // namespace mf::report

@@ -145,23 +145,29 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 5 0.00998135 7 2924588
 e
 set title "wcsph: surface_tension"
-set xrange [-0.5:4.5]
-set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+set xrange [-0.5:7.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4, "sigma=1 s=5mm" 5, "sigma=3 s=5mm" 6, "sigma=10 s=5mm" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
 0 0.00196152 7 2924588
 1 0.0173305 7 2924588
 2 0.0713251 7 2924588
 3 0.274026 7 14034728
 4 0.5 2 14034728
+5 0.0329333 7 2924588
+6 0.0703043 7 2924588
+7 0.168872 7 14034728
 e
 set title "dfsph: surface_tension"
-set xrange [-0.5:4.5]
-set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+set xrange [-0.5:7.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4, "sigma=1 s=5mm" 5, "sigma=3 s=5mm" 6, "sigma=10 s=5mm" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
 0 0.000133994 7 2924588
 1 0.0011517 7 2924588
 2 0.00863234 7 2924588
 3 0.00997983 7 2924588
 4 0.00999844 7 2924588
+5 0.00926697 7 2924588
+6 0.00992586 7 14034728
+7 0.00996247 7 14034728
 e
 unset multiplot

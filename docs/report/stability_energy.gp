@@ -146,23 +146,29 @@ plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable 
 5 0.00257572 7 2924588
 e
 set title "wcsph: surface_tension"
-set xrange [-0.5:4.5]
-set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+set xrange [-0.5:7.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4, "sigma=1 s=5mm" 5, "sigma=3 s=5mm" 6, "sigma=10 s=5mm" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
 0 0.0001 7 2924588
 1 0.0001 7 2924588
 2 0.0001 7 2924588
 3 0.0001 7 14034728
 4 0.0001 2 14034728
+5 0.0001 7 2924588
+6 0.0001 7 2924588
+7 0.0001 7 14034728
 e
 set title "dfsph: surface_tension"
-set xrange [-0.5:4.5]
-set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4)
+set xrange [-0.5:7.5]
+set xtics ("sigma=0.0728" 0, "sigma=1" 1, "sigma=10" 2, "sigma=100" 3, "sigma=1000" 4, "sigma=1 s=5mm" 5, "sigma=3 s=5mm" 6, "sigma=10 s=5mm" 7)
 plot '-' using 1:2:3:4 with points pointtype variable ps 2 lw 3 lc rgb variable notitle
 0 0.0001 7 2924588
 1 0.0001 7 2924588
 2 0.0001 7 2924588
 3 0.0001 7 2924588
 4 0.0001 7 2924588
+5 0.0001 7 2924588
+6 0.0001 7 14034728
+7 0.0001 7 14034728
 e
 unset multiplot
