@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 
 namespace mf {
 
@@ -31,6 +32,24 @@ struct KeyIndex {
 
 // Fixed work-block size: block boundaries never depend on the thread count.
 constexpr size_t kCellsPerBlock = 64;
+
+// A block's neighbour indices. Each particle reserves room for all its candidates and keeps the
+// few within reach; growing by doubling without zero-filling leaves the room it never writes
+// untouched (a std::vector would clear every particle's candidates first).
+struct IndexBuffer {
+  std::unique_ptr<uint32_t[]> data;
+  size_t used = 0, capacity = 0;
+  uint32_t* roomFor(size_t extra) {
+    if (used + extra > capacity) {
+      const size_t grown = std::max(used + extra, 2 * capacity);
+      std::unique_ptr<uint32_t[]> bigger(new uint32_t[grown]);
+      std::copy_n(data.get(), used, bigger.get());
+      data = std::move(bigger);
+      capacity = grown;
+    }
+    return data.get() + used;
+  }
+};
 
 }  // namespace
 
@@ -78,9 +97,38 @@ void CellGrid::build(const Vec3* points, size_t n, const Vec3& origin, Real cell
     }
   }
   cellStart_.push_back(uint32_t(n));
+
+  dense_.clear();
+  const size_t nCells = cellKeys_.size();
+  if (nCells == 0) return;
+  int32_t lo[3] = {kMaxCoord, kMaxCoord, kMaxCoord}, hi[3] = {0, 0, 0};
+  for (size_t c = 0; c < nCells; ++c)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], cellCoord_[3 * c + a]);
+      hi[a] = std::max(hi[a], cellCoord_[3 * c + a]);
+    }
+  const uint64_t volume = uint64_t(hi[0] - lo[0] + 1) * uint64_t(hi[1] - lo[1] + 1) * uint64_t(hi[2] - lo[2] + 1);
+  // Clearing the table costs its volume each build: only where that is of the order of the cells.
+  if (volume > std::max<uint64_t>(uint64_t(1) << 20, 16 * uint64_t(nCells))) return;
+  for (int a = 0; a < 3; ++a) {
+    denseLo_[a] = lo[a];
+    denseDim_[a] = hi[a] - lo[a] + 1;
+  }
+  dense_.assign(volume, 0);
+  for (size_t c = 0; c < nCells; ++c) {
+    const int32_t* cc = &cellCoord_[3 * c];
+    dense_[(size_t(cc[2] - lo[2]) * size_t(denseDim_[1]) + size_t(cc[1] - lo[1])) * size_t(denseDim_[0]) + size_t(cc[0] - lo[0])] =
+        uint32_t(c + 1);
+  }
 }
 
-int64_t CellGrid::findCell(uint64_t key) const {
+int64_t CellGrid::findCell(int32_t x, int32_t y, int32_t z) const {
+  if (!dense_.empty()) {
+    const int32_t u = x - denseLo_[0], v = y - denseLo_[1], w = z - denseLo_[2];
+    if (u < 0 || v < 0 || w < 0 || u >= denseDim_[0] || v >= denseDim_[1] || w >= denseDim_[2]) return -1;
+    return int64_t(dense_[(size_t(w) * size_t(denseDim_[1]) + size_t(v)) * size_t(denseDim_[0]) + size_t(u)]) - 1;
+  }
+  const uint64_t key = mortonKey(uint32_t(x), uint32_t(y), uint32_t(z));
   auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), key);
   if (it == cellKeys_.end() || *it != key) return -1;
   return it - cellKeys_.begin();
@@ -95,12 +143,11 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
   // The other grid may have a different origin: neighbour cells are looked up by position.
   const bool sameLayout = other.origin_ == origin_ && other.cellSize_ == cellSize_;
 
-  std::vector<std::vector<uint32_t>> blockIndices(nBlocks);
+  std::vector<IndexBuffer> blockIndices(nBlocks);
   std::vector<uint32_t> counts(nPoints + 1, 0);
 
   tbb::parallel_for(size_t(0), nBlocks, [&](size_t b) {
-    std::vector<uint32_t>& buf = blockIndices[b];
-    buf.clear();
+    IndexBuffer& buf = blockIndices[b];
     const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
     // Up to 27 images (the cell itself, and one period up or down on up to three axes: a cell
     // can be near both faces of a period under 2 radius + its size). A query box
@@ -114,7 +161,7 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
     const Real cs = other.cellSize_;
     const auto addCell = [&](int& nr, int32_t x, int32_t y, int32_t z, int image) {
       if (x < 0 || y < 0 || z < 0 || x > kMaxCoord || y > kMaxCoord || z > kMaxCoord) return;
-      const int64_t oc = other.findCell(mortonKey(x, y, z));
+      const int64_t oc = other.findCell(x, y, z);
       if (oc < 0) return;
       ranges[nr][0] = other.cellStart_[oc];
       ranges[nr][1] = other.cellStart_[oc + 1];
@@ -164,9 +211,7 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
       for (int r = 0; r < nr; ++r) candidates += ranges[r][1] - ranges[r][0];
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
         const uint32_t i = sorted_[p], skip = excludeSelf ? i : UINT32_MAX;  // no point has index UINT32_MAX
-        const size_t before = buf.size();
-        buf.resize(before + candidates);
-        uint32_t* out = buf.data() + before;
+        uint32_t* out = buf.roomFor(candidates);
         size_t found = 0;
         for (int r = 0; r < nr; ++r) {
           const int image = rangeImage[r];
@@ -187,7 +232,7 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
             found += size_t((lengthSquared(d) < r2max) & (j != skip));
           }
         }
-        buf.resize(before + found);
+        buf.used += found;
         counts[i] = uint32_t(found);
       }
     }
@@ -199,13 +244,13 @@ void CellGrid::findNeighbors(const CellGrid& other, Real radius, bool excludeSel
   out.indices.resize(out.offsets[nPoints]);
 
   tbb::parallel_for(size_t(0), nBlocks, [&](size_t b) {
-    const std::vector<uint32_t>& buf = blockIndices[b];
+    const uint32_t* buf = blockIndices[b].data.get();
     const size_t c0 = b * kCellsPerBlock, c1 = std::min(nCells, c0 + kCellsPerBlock);
     size_t k = 0;
     for (size_t c = c0; c < c1; ++c)
       for (uint32_t p = cellStart_[c]; p < cellStart_[c + 1]; ++p) {
         const uint32_t i = sorted_[p];
-        std::copy_n(buf.begin() + k, counts[i], out.indices.begin() + out.offsets[i]);
+        std::copy_n(buf + k, counts[i], out.indices.begin() + out.offsets[i]);
         k += counts[i];
       }
   });

@@ -54,7 +54,7 @@ class CellGrid {
   void cellOf(const Vec3& p, int32_t c[3]) const;
 
  private:
-  int64_t findCell(uint64_t key) const;  // index into cellKeys_, or -1
+  int64_t findCell(int32_t x, int32_t y, int32_t z) const;  // index into cellKeys_, or -1
 
   Vec3 origin_;
   Real cellSize_ = 1;
@@ -63,6 +63,10 @@ class CellGrid {
   std::vector<uint64_t> cellKeys_;    // sorted unique Morton keys
   std::vector<uint32_t> cellStart_;   // cellStart_[c] .. cellStart_[c+1] in sorted_
   std::vector<int32_t> cellCoord_;    // 3 ints per cell
+  // Where the occupied cells' bounding box is small, a dense table of cell index + 1 (0: empty)
+  // answers findCell in one read instead of a binary search over the keys.
+  std::vector<uint32_t> dense_;
+  int32_t denseLo_[3] = {0, 0, 0}, denseDim_[3] = {0, 0, 0};
 };
 
 /// Morton key of non-negative cell coordinates (21 bits each).

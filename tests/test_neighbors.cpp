@@ -61,6 +61,27 @@ TEST(NeighborSearch, CrossQueryAndSmallerRadius) {
   expectMatchesBruteForce(a, b, 0.6 * h, false, nl);
 }
 
+// A compact grid looks its cells up in a dense table, a sparse one (clusters far apart) by binary
+// search over the Morton keys: both must give the same lists in the same order, since the
+// simulation's sums follow that order.
+TEST(NeighborSearch, SparseAndDenseCellLookupsGiveTheSameLists) {
+  const double h = 0.05;
+  const auto near = randomPoints(2000, 5, 0.5);
+  auto far = near;
+  for (int k = 0; k < 50; ++k) far.push_back(mf::Vec3(200.0 + 0.01 * k, 100.0, 150.0));  // 4000 x 2000 x 3000 cells apart
+  mf::CellGrid compact, sparse;
+  compact.build(near.data(), near.size(), {-0.1, -0.1, -0.1}, h);
+  sparse.build(far.data(), far.size(), {-0.1, -0.1, -0.1}, h);
+  mf::NeighborLists a, b;
+  compact.findNeighbors(compact, h, true, a);
+  sparse.findNeighbors(sparse, h, true, b);
+  expectMatchesBruteForce(far, far, h, true, b);
+  for (size_t i = 0; i < near.size(); ++i)
+    ASSERT_TRUE(std::equal(a.indices.begin() + a.begin(i), a.indices.begin() + a.end(i), b.indices.begin() + b.begin(i),
+                           b.indices.begin() + b.end(i)))
+        << "row " << i;
+}
+
 TEST(NeighborSearch, SortedOrderFollowsZOrderOfCells) {
   const auto p = randomPoints(2000, 4, 0.5);
   const double h = 0.05;

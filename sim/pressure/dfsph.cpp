@@ -28,6 +28,14 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
   // iterations, which then read them instead of evaluating the kernel again.
   fluidGrad_.resize(ctx.fluidNeighbors.indices.size());
   wallGrad_.resize(ctx.boundaryNeighbors.indices.size());
+  // A partial call (the compression passes' neighbourhoods) follows a full one at the same
+  // particles: their rest volumes stand.
+  if (!only || restVolume_.size() != n) {
+    restVolume_.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) restVolume_[i] = ps.mass[i] / ps.restDensity[i];
+    });
+  }
   auto one = [&](size_t i) {
     const Vec3 xi = ps.position[i];
     Vec3 grad, gradB;
@@ -36,7 +44,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
       const uint32_t j = ctx.fluidNeighbors.indices[k];
       const Vec3 rij = ctx.periodic.separation(xi, ps.position[j]);
       const Vec3 g = K.pressureGrad(rij, lengthSquared(rij));
-      const Real Vj = ps.mass[j] / ps.restDensity[j];
+      const Real Vj = restVolume_[j];
       const Vec3 gv = g * Vj;
       fluidGrad_[k] = GradF::of(gv);
       grad += gv;

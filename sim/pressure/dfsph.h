@@ -145,6 +145,7 @@ class DfsphSolver {
   std::vector<uint32_t> unknowns_, worstMoved_;
   std::vector<Real> localError_;
   std::vector<Real> diagonal_, rate_, delta_;
+  std::vector<Real> restVolume_;  // m / rho0 per particle, so that the pair loop divides once per particle
   std::vector<Real> lower_;  // the least pressure each particle may hold (0, or -p_ref)
   // V grad W per neighbour pair, from computeDiagonal, in single precision: the sweeps stream
   // them once per iteration, and half the bytes took 15 % off the reference dam break's run.
