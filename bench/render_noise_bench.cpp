@@ -3,7 +3,7 @@
 // a wax blob in the lava lamp (a dense scattering medium lit from below).
 //   ./build/bench/render_noise_bench [--ref-spp N] [--ref-dir DIR] [--spp a,b,...] [--set render.KEY=VALUE]...
 //                                    [--denoise iterations|sigma_luminance|normal_power|sigma_depth|sigma_albedo=V]...
-//                                    [--scenes glass,lamp] [--equal-time false]
+//                                    [--scenes glass,lamp] [--equal-time false] [--compare-spp N]
 // The reference is rendered once with indirect_clamp = 0 (no bias from the clamp) and kept in
 // DIR (default /tmp/mf_noise_ref) as raw floats, so that later renderers are measured against
 // the same image; delete it to render it again. For every spp it prints
@@ -26,11 +26,13 @@
 #include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cmath>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "bench/rel_rmse.h"
@@ -226,11 +228,15 @@ struct Runs {
   Error raw, denoised;
   double renderSeconds = 1e30, denoiseSeconds = 1e30;  // the best of the renders
   render::Image mean, last, lastDenoised;
+  render::Image denoisedMean;        // the denoiser's bias, with the noise of all the renders' samples
+  std::vector<double> denoisedError;  // per pixel, the denoised renders' summed (x - r)^2 / (r^2 + 0.01)
 };
 
 Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, bool denoised) {
   Runs r;
   r.mean = render::Image(ref.width, ref.height);
+  r.denoisedMean = render::Image(ref.width, ref.height);
+  r.denoisedError.assign(ref.rgb.size() / 3, 0.0);
   double mse = 0, dmse = 0;
   for (int rep = 0; rep < reps; ++rep) {
     render::RenderStats st;
@@ -244,6 +250,11 @@ Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, 
     const auto t0 = std::chrono::steady_clock::now();
     r.lastDenoised = render::denoise(r.last, aovs, denoiseSettings);
     r.denoiseSeconds = std::min(r.denoiseSeconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    for (size_t i = 0; i < ref.rgb.size(); ++i) {
+      r.denoisedMean.rgb[i] += r.lastDenoised.rgb[i] / reps;
+      const double e = double(r.lastDenoised.rgb[i]) - ref.rgb[i];
+      r.denoisedError[i / 3] += e * e / (double(ref.rgb[i]) * ref.rgb[i] + 0.01);
+    }
     const Error d = measure(r.lastDenoised, ref);
     dmse += d.relRmse * d.relRmse / reps, r.denoised.black += d.black / reps, r.denoised.relMae += d.relMae / reps;
   }
@@ -251,11 +262,20 @@ Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, 
   return r;
 }
 
+/// `im` with each pixel a k x k block, for looking at the small canned frames.
+render::Image zoomed(const render::Image& im, int k) {
+  render::Image out(im.width * k, im.height * k);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) out.set(x, y, im.at(x / k, y / k));
+  return out;
+}
+
 int repsFor(int spp) { return std::max(1, std::min(64, 512 / spp)); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  int compareSpp = 0;  // --compare-spp N: print the N-spp reference's error against the reference
   openvdb::initialize();
   int refSpp = 4096;
   std::string dir = "/tmp/mf_noise_ref", sppList = "8", sceneList = "glass,lamp";
@@ -269,6 +289,7 @@ int main(int argc, char** argv) {
     else if (a == "--equal-time") equalTime = std::string(argv[i + 1]) != "false";
     else if (a == "--set") extraKeys.push_back(argv[i + 1]);
     else if (a == "--denoise") setDenoise(argv[i + 1]);
+    else if (a == "--compare-spp") compareSpp = std::atoi(argv[i + 1]);
   }
   std::vector<int> spps;
   std::stringstream ss(sppList);
@@ -279,6 +300,13 @@ int main(int argc, char** argv) {
   for (std::string t; std::getline(sl, t, ',');) names.push_back(t);
   for (const std::string& name : names) {
     const render::Image ref = reference(name, refSpp, dir);
+    if (compareSpp > 0) {
+      // The reference's own noise: a lower-spp reference of the same seed against this one (its
+      // first samples are the same, so the figure is sqrt(1 - compare/ref) of its noise).
+      const render::Image other = reference(name, compareSpp, dir);
+      fmt::print("  {:<5} the {}-spp reference against the {}-spp one: rel RMSE {:.4f}\n", name, compareSpp, refSpp,
+                 measure(other, ref).relRmse);
+    }
     for (int spp : spps) {
       // Rel RMSE and black: over `reps` independent renders (frames 1..reps with animated
       // seeds), as one pixel's firefly moves the figure of a single render by a lot.
@@ -293,8 +321,51 @@ int main(int argc, char** argv) {
       const Error& d = r.denoised;
       fmt::print("        denoised: rel RMSE {:.4f}  rel MAE {:.4f}  black {:.2f} %  time {:.3f} s + denoiser {:.3f} s\n", d.relRmse,
                  d.relMae, 100 * d.black, r.renderSeconds, r.denoiseSeconds);
-      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), r.last);
-      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), r.lastDenoised);
+      if (reps > 1) {
+        // Where the denoised error is: its share in the worst pixels, and a map (white: the worst).
+        std::vector<double> sorted = r.denoisedError;
+        std::sort(sorted.begin(), sorted.end(), std::greater<>());
+        double total = 0, top1 = 0, top10 = 0;
+        for (size_t k = 0; k < sorted.size(); ++k) {
+          total += sorted[k];
+          if (k < sorted.size() / 100) top1 += sorted[k];
+          if (k < sorted.size() / 10) top10 += sorted[k];
+        }
+        fmt::print("        mean of the {} denoised renders: rel RMSE {:.4f}; the worst 1 % / 10 % of pixels hold {:.0f} % / {:.0f} % "
+                   "of the denoised squared error (map: {}_{}spp_error.png)\n",
+                   reps, measure(r.denoisedMean, ref).relRmse, total > 0 ? 100 * top1 / total : 0.0,
+                   total > 0 ? 100 * top10 / total : 0.0, name, spp);
+        constexpr int kZoom = 4;  // the canned frames are small: each pixel a 4x4 block
+        render::Image map(ref.width * kZoom, ref.height * kZoom);
+        const double worst = sorted.empty() ? 0 : sorted.front();
+        for (int y = 0; y < map.height; ++y)
+          for (int x = 0; x < map.width; ++x) {
+            const double e = r.denoisedError[size_t(y / kZoom) * size_t(ref.width) + size_t(x / kZoom)];
+            for (int c = 0; c < 3; ++c) map.rgb[3 * (size_t(y) * size_t(map.width) + size_t(x)) + c] = worst > 0 ? float(std::sqrt(e / worst)) : 0.f;
+          }
+        render::writeImage(fmt::format("{}/{}_{}spp_error.png", dir, name, spp), map);
+        // The same for the mean of the denoised renders: the denoiser's bias.
+        std::vector<double> bias(r.denoisedError.size(), 0.0);
+        double worstBias = 0;
+        for (size_t p = 0; p < bias.size(); ++p) {
+          for (int c = 0; c < 3; ++c) {
+            const double e = double(r.denoisedMean.rgb[3 * p + c]) - ref.rgb[3 * p + c];
+            bias[p] += e * e / (double(ref.rgb[3 * p + c]) * ref.rgb[3 * p + c] + 0.01);
+          }
+          worstBias = std::max(worstBias, bias[p]);
+        }
+        for (int y = 0; y < map.height; ++y)
+          for (int x = 0; x < map.width; ++x) {
+            const double e = bias[size_t(y / kZoom) * size_t(ref.width) + size_t(x / kZoom)];
+            for (int c = 0; c < 3; ++c)
+              map.rgb[3 * (size_t(y) * size_t(map.width) + size_t(x)) + c] = worstBias > 0 ? float(std::sqrt(e / worstBias)) : 0.f;
+          }
+        render::writeImage(fmt::format("{}/{}_{}spp_bias.png", dir, name, spp), map);
+      }
+      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), zoomed(r.last, 4));
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), zoomed(r.lastDenoised, 4));
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised_mean.png", dir, name, spp), zoomed(r.denoisedMean, 4));
+      render::writeImage(fmt::format("{}/{}_reference.png", dir, name), zoomed(ref, 4));
       // Equal time: raw samples for the render's and the denoiser's time together.
       if (!equalTime) continue;
       const int eqSpp = std::max(spp, int(std::lround(spp * (r.renderSeconds + r.denoiseSeconds) / r.renderSeconds)));

@@ -110,11 +110,11 @@ struct Guides {
   }
 };
 
-/// The albedo the light is multiplied by again: the AOV smoothed by two passes of the same
-/// guided kernel (steps 1 and 2). At 8 spp the AOV of a texture finer than a pixel (the far
-/// checkers, what glass shows) is itself noisy; the guides keep resolved texture edges (an albedo
-/// step well above sigma_albedo stops the kernel), so this smooths only what the samples had not
-/// resolved.
+/// The albedo guide: the AOV smoothed by two passes of the same guided kernel (steps 1 and 2).
+/// At 8 spp the AOV of a texture finer than a pixel (the far checkers, what glass shows) is itself
+/// noisy, and a noisy guide would stop the light's filter everywhere; an albedo step well above
+/// sigma_albedo stops this kernel, so resolved texture edges stay. The light is multiplied again
+/// by the pixel's own albedo, not this one: smoothing blurs texture steps below sigma_albedo.
 std::vector<float> smoothAlbedo(const Guides& g) {
   std::vector<float> cur = *g.albedo, next(cur.size());
   for (int step = 1; step <= 2; step *= 2) {
@@ -213,12 +213,14 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
     var.swap(nextVar);
   }
 
-  // Remodulate with the smoothed albedo; the sky (noise-free: no sample there bounces) as it was.
+  // Remodulate with the pixel's own albedo, the mean of its samples' as the colour is: a texture
+  // the samples resolved comes back as it was (the smoothed guide would blur it; on the noise
+  // bench's glass that was half of the denoised error). The sky (noise-free) as it was.
   Image out(w, h);
   for (size_t p = 0; p < n; ++p)
     for (int c = 0; c < 3; ++c) {
       const float a = albedo[3 * p + c];
-      out.rgb[3 * p + c] = guides.sky[p] ? noisy.rgb[3 * p + c] : a > kAlbedoFloor ? light[3 * p + c] * smooth[3 * p + c] : light[3 * p + c];
+      out.rgb[3 * p + c] = guides.sky[p] ? noisy.rgb[3 * p + c] : a > kAlbedoFloor ? light[3 * p + c] * a : light[3 * p + c];
     }
   return out;
 }

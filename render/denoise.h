@@ -4,7 +4,7 @@
 // of SVGF (Schied et al. 2017, "Spatiotemporal variance-guided filtering", HPG; spatial part only).
 //
 // The noisy image is divided by the albedo AOV (demodulated) so that the filter smooths light,
-// not texture, and multiplied by it again after. Each of `iterations` passes is a 5x5 B3-spline
+// not texture, and multiplied by the same pixel's albedo again after. Each of `iterations` passes is a 5x5 B3-spline
 // kernel with holes (taps 2^i pixels apart); a tap's weight falls with the difference in normal,
 // in depth (against the depth's own screen-space gradient), in albedo, and in luminance (against
 // the standard deviation of the pixel's estimate, so that noise is smoothed and features are not).

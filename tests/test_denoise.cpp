@@ -123,6 +123,43 @@ TEST(Denoise, NoiseFallsAndEdgesStaySharp) {
     }
 }
 
+// A texture the samples resolve but whose neighbouring pixels differ by less than sigma_albedo
+// (0.25): albedo 0.5 + 0.12 sin(2 pi x / 4), like the mid-distance checkers of a table a few
+// pixels across. Under uniform light the clean image is that texture. The filter smooths light;
+// the texture must come back through the pixel's own albedo. Multiplying by the albedo smoothed
+// for the guide instead (the denoiser before) blurs it. Measured at seeds 21-23: RMSE 0.0150-0.0154,
+// against 0.0362-0.0365 before and 0.129 noisy; the bound, 0.025, sits between.
+TEST(Denoise, AResolvedTextureComesBackThroughThePixelsOwnAlbedo) {
+  Image clean(kW, kH), noisy(kW, kH);
+  Aovs aovs(kW, kH, {"fluid"});
+  std::mt19937 rng(21);
+  auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+  auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
+  render::AovAccumulator acc(aovs);
+  std::vector<render::LuminanceMoments> moments(size_t(kW) * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const Real a = 0.5 + 0.12 * std::sin(2 * M_PI * x / 4.0);
+      const Vec3 albedo{a, a, a}, c0 = albedo * 0.8;
+      render::PrimarySample ps;
+      ps.albedo = albedo, ps.normal = {0, 0, 1}, ps.depth = 2.0, ps.mask = -1;
+      const size_t p = size_t(y) * kW + x;
+      Vec3 sum;
+      for (int k = 0; k < kSpp; ++k) {
+        const Vec3 c{c0.x * (1 + 0.9 * normal()), c0.y * (1 + 0.9 * normal()), c0.z * (1 + 0.9 * normal())};
+        acc.add(p, ps);
+        moments[p].add(c);
+        sum += c;
+      }
+      clean.set(x, y, c0);
+      noisy.set(x, y, sum / kSpp);
+    }
+  acc.finish(moments);
+  const Image out = render::denoise(noisy, aovs);
+  std::printf("texture: RMSE noisy %.4f, denoised %.4f\n", rmse(noisy, clean), rmse(out, clean));
+  EXPECT_LT(rmse(out, clean), 0.025);
+}
+
 TEST(Denoise, SameBitsOnOneAndTwoThreads) {
   const Synthetic s = synthetic(2);
   Image one, two;
