@@ -9,6 +9,7 @@ namespace mf::render {
 Aovs::Aovs(int w, int h, std::vector<std::string> masks)
     : width(w), height(h), albedo(size_t(w) * h * 3, 0.0f), normal(size_t(w) * h * 3, 0.0f),
       depth(size_t(w) * h, std::numeric_limits<float>::infinity()), variance(size_t(w) * h, 0.0f),
+      albedoVariance(size_t(w) * h, 0.0f),
       motion(size_t(w) * h * 2, 0.0f),
       maskNames(std::move(masks)), mask(size_t(w) * h * maskNames.size(), 0.0f) {}
 
@@ -23,11 +24,13 @@ double LuminanceMoments::varianceOfMean() const {
   return std::max(0.0, (sum2 - n * mean * mean) / (n - 1)) / n;
 }
 
-AovAccumulator::AovAccumulator(Aovs& out) : out_(out), hits_(out.pixels(), 0), moved_(out.pixels(), 0) {
+AovAccumulator::AovAccumulator(Aovs& out)
+    : out_(out), hits_(out.pixels(), 0), moved_(out.pixels(), 0), albedoSquares_(out.pixels(), 0.0) {
   std::fill(out.depth.begin(), out.depth.end(), 0.0f);
 }
 
 void AovAccumulator::add(size_t p, const PrimarySample& s) {
+  albedoSquares_[p] += lengthSquared(s.albedo);
   for (int c = 0; c < 3; ++c) {
     out_.albedo[3 * p + c] += float(s.albedo[c]);
     out_.normal[3 * p + c] += float(s.normal[c]);
@@ -49,10 +52,15 @@ void AovAccumulator::finish(const std::vector<LuminanceMoments>& moments) {
     float* a = &out_.albedo[3 * p];
     float* nrm = &out_.normal[3 * p];
     const double len = std::sqrt(double(nrm[0]) * nrm[0] + double(nrm[1]) * nrm[1] + double(nrm[2]) * nrm[2]);
+    double mean2 = 0;
     for (int c = 0; c < 3; ++c) {
+      mean2 += (double(a[c]) / n) * (double(a[c]) / n);
       a[c] = float(a[c] / double(n));
       nrm[c] = len > 0 ? float(nrm[c] / len) : 0.0f;
     }
+    // How far the samples' albedos scatter (a glass wall's reflect-or-refract choice) against how
+    // well they agree (a texture they resolve): the denoiser trusts the mean only in the second case.
+    out_.albedoVariance[p] = n > 1 ? float(std::max(0.0, albedoSquares_[p] - n * mean2) / (double(n - 1) * n)) : 0.0f;
     // The mean over the samples that hit something: at a silhouette, the nearer surface's.
     out_.depth[p] = hits_[p] ? float(out_.depth[p] / double(hits_[p])) : std::numeric_limits<float>::infinity();
     out_.variance[p] = float(moments[p].varianceOfMean());

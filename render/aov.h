@@ -9,6 +9,9 @@
 //   mask    per fluid: the fraction of samples whose specular chain met that fluid's surface
 //           before any diffuse or scattering vertex (through glass walls, in reflections)
 //   variance the variance of the pixel's mean luminance, from its samples (SVGF's guide)
+//   albedoVariance the variance of the pixel's mean albedo (RGB summed): whether its samples
+//           agree on the albedo (a texture they resolve) or scatter (a glass wall's reflect-or-
+//           refract choice); the denoiser trusts the pixel's own albedo in the first case only
 //   motion  forward motion vectors: where, in pixels from here (+x right, +y down), the primary
 //           hit's point is in the next frame, by the surface's velocity and the camera's move;
 //           the mean over the samples that hit something (0 on the sky)
@@ -28,6 +31,7 @@ struct Aovs {
   int width = 0, height = 0;
   std::vector<float> albedo, normal;  // 3 per pixel
   std::vector<float> depth, variance;  // 1 per pixel
+  std::vector<float> albedoVariance;   // 1 per pixel
   std::vector<float> motion;           // 2 per pixel: forward motion vector, pixels
   std::vector<std::string> maskNames;  // one per fluid
   std::vector<float> mask;             // maskNames.size() per pixel
@@ -70,6 +74,7 @@ class AovAccumulator {
  private:
   Aovs& out_;
   std::vector<uint32_t> hits_, moved_;
+  std::vector<double> albedoSquares_;  // per pixel, the sum over samples of |albedo|^2
 };
 
 /// The frame as one EXR: R,G,B (the image shipped: denoised where `noisy` is given),

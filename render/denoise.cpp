@@ -154,6 +154,7 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
   const int w = noisy.width, h = noisy.height;
   if (aovs.width != w || aovs.height != h || aovs.albedo.size() != size_t(w) * h * 3 || aovs.variance.size() != size_t(w) * h)
     throw std::invalid_argument("denoise: the AOVs are not the image's size");
+  if (aovs.albedoVariance.size() != size_t(w) * h) throw std::invalid_argument("denoise: the AOVs have no albedo variance");
   const size_t n = size_t(w) * h;
   const std::vector<float>& albedo = aovs.albedo;
 
@@ -213,15 +214,25 @@ Image denoise(const Image& noisy, const Aovs& aovs, const DenoiseSettings& s) {
     var.swap(nextVar);
   }
 
-  // Remodulate with the pixel's own albedo, the mean of its samples' as the colour is: a texture
-  // the samples resolved comes back as it was (the smoothed guide would blur it; on the noise
-  // bench's glass that was half of the denoised error). The sky (noise-free) as it was.
+  // Remodulate with the pixel's own albedo, the mean of its samples' as the colour is, where the
+  // samples agree on it: a texture they resolved comes back as it was (the smoothed guide blurs
+  // steps below sigma_albedo; on the noise bench's glass that was half of the denoised error).
+  // Where they scatter (a glass wall's samples reflect or refract), the difference d from the
+  // smoothed albedo is mostly that scatter: the variance of the pixel's mean, se^2, weighs the
+  // two as a Wiener filter does, the pixel's own by |d|^2 / (|d|^2 + se^2). The sky (noise-free)
+  // as it was.
   Image out(w, h);
-  for (size_t p = 0; p < n; ++p)
+  for (size_t p = 0; p < n; ++p) {
+    const float* a = &albedo[3 * p];
+    const float* sm = &smooth[3 * p];
+    const float d2 = (a[0] - sm[0]) * (a[0] - sm[0]) + (a[1] - sm[1]) * (a[1] - sm[1]) + (a[2] - sm[2]) * (a[2] - sm[2]);
+    const float se2 = aovs.albedoVariance[p];
+    const float keep = d2 + se2 > 0 ? d2 / (d2 + se2) : 1.0f;
     for (int c = 0; c < 3; ++c) {
-      const float a = albedo[3 * p + c];
-      out.rgb[3 * p + c] = guides.sky[p] ? noisy.rgb[3 * p + c] : a > kAlbedoFloor ? light[3 * p + c] * a : light[3 * p + c];
+      const float remodulate = sm[c] + keep * (a[c] - sm[c]);
+      out.rgb[3 * p + c] = guides.sky[p] ? noisy.rgb[3 * p + c] : a[c] > kAlbedoFloor ? light[3 * p + c] * remodulate : light[3 * p + c];
     }
+  }
   return out;
 }
 
