@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
 
 #include <unistd.h>
@@ -123,6 +124,40 @@ TEST(Denoise, NoiseFallsAndEdgesStaySharp) {
     }
 }
 
+/// kW x kH pixels facing the camera at 2 m under uniform light 0.8, kSpp samples each: sample k
+/// of column x has the albedo albedoOf(x, uniform) (grey; `uniform` draws from the test's
+/// generator) and the colour albedo 0.8 (1 + noise g), g a standard normal per channel. The clean
+/// pixel is cleanAlbedo(x) 0.8.
+template <class SampleAlbedo, class CleanAlbedo>
+Synthetic underUniformLight(uint32_t seed, double noise, SampleAlbedo albedoOf, CleanAlbedo cleanAlbedo) {
+  Synthetic s{Image(kW, kH), Image(kW, kH), Aovs(kW, kH, {"fluid"})};
+  std::mt19937 rng(seed);
+  std::function<double()> uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+  auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
+  render::AovAccumulator acc(s.aovs);
+  std::vector<render::LuminanceMoments> moments(size_t(kW) * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const size_t p = size_t(y) * kW + x;
+      Vec3 sum;
+      for (int k = 0; k < kSpp; ++k) {
+        const Real a = albedoOf(x, uniform);
+        render::PrimarySample ps;
+        ps.albedo = {a, a, a}, ps.normal = {0, 0, 1}, ps.depth = 2.0, ps.mask = -1;
+        const Real c0 = a * 0.8;
+        const Vec3 c{c0 * (1 + noise * normal()), c0 * (1 + noise * normal()), c0 * (1 + noise * normal())};
+        acc.add(p, ps);
+        moments[p].add(c);
+        sum += c;
+      }
+      const Real clean = cleanAlbedo(x) * 0.8;
+      s.clean.set(x, y, Vec3{clean, clean, clean});
+      s.noisy.set(x, y, sum / kSpp);
+    }
+  acc.finish(moments);
+  return s;
+}
+
 // A texture the samples resolve but whose neighbouring pixels differ by less than sigma_albedo
 // (0.25): albedo 0.5 + 0.12 sin(2 pi x / 4), like the mid-distance checkers of a table a few
 // pixels across. Under uniform light the clean image is that texture. The filter smooths light;
@@ -130,34 +165,11 @@ TEST(Denoise, NoiseFallsAndEdgesStaySharp) {
 // for the guide instead (the denoiser before) blurs it. Measured at seeds 21-23: RMSE 0.0150-0.0154,
 // against 0.0362-0.0365 before and 0.129 noisy; the bound, 0.025, sits between.
 TEST(Denoise, AResolvedTextureComesBackThroughThePixelsOwnAlbedo) {
-  Image clean(kW, kH), noisy(kW, kH);
-  Aovs aovs(kW, kH, {"fluid"});
-  std::mt19937 rng(21);
-  auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
-  auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
-  render::AovAccumulator acc(aovs);
-  std::vector<render::LuminanceMoments> moments(size_t(kW) * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const Real a = 0.5 + 0.12 * std::sin(2 * M_PI * x / 4.0);
-      const Vec3 albedo{a, a, a}, c0 = albedo * 0.8;
-      render::PrimarySample ps;
-      ps.albedo = albedo, ps.normal = {0, 0, 1}, ps.depth = 2.0, ps.mask = -1;
-      const size_t p = size_t(y) * kW + x;
-      Vec3 sum;
-      for (int k = 0; k < kSpp; ++k) {
-        const Vec3 c{c0.x * (1 + 0.9 * normal()), c0.y * (1 + 0.9 * normal()), c0.z * (1 + 0.9 * normal())};
-        acc.add(p, ps);
-        moments[p].add(c);
-        sum += c;
-      }
-      clean.set(x, y, c0);
-      noisy.set(x, y, sum / kSpp);
-    }
-  acc.finish(moments);
-  const Image out = render::denoise(noisy, aovs);
-  std::printf("texture: RMSE noisy %.4f, denoised %.4f\n", rmse(noisy, clean), rmse(out, clean));
-  EXPECT_LT(rmse(out, clean), 0.025);
+  const auto texture = [](int x) { return 0.5 + 0.12 * std::sin(2 * M_PI * x / 4.0); };
+  const Synthetic s = underUniformLight(21, 0.9, [&](int x, std::function<double()>&) { return texture(x); }, texture);
+  const Image out = render::denoise(s.noisy, s.aovs);
+  std::printf("texture: RMSE noisy %.4f, denoised %.4f\n", rmse(s.noisy, s.clean), rmse(out, s.clean));
+  EXPECT_LT(rmse(out, s.clean), 0.025);
 }
 
 // The other case: the samples' albedos scatter within every pixel (each picks 0.3 or 0.9, as a
@@ -168,33 +180,11 @@ TEST(Denoise, AResolvedTextureComesBackThroughThePixelsOwnAlbedo) {
 // 0.102-0.103); remodulated with the pixel's own albedo 0.084-0.086, with the smoothed one (which
 // the texture test above fails) 0.042-0.043. Bound 0.075, between the first two.
 TEST(Denoise, AnAlbedoThatScattersWithinThePixelIsSmoothed) {
-  Image clean(kW, kH), noisy(kW, kH);
-  Aovs aovs(kW, kH, {"fluid"});
-  std::mt19937 rng(31);
-  auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
-  auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform()); };
-  render::AovAccumulator acc(aovs);
-  std::vector<render::LuminanceMoments> moments(size_t(kW) * kH);
-  for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) {
-      const size_t p = size_t(y) * kW + x;
-      Vec3 sum;
-      for (int k = 0; k < kSpp; ++k) {
-        const Real a = uniform() < 0.5 ? 0.3 : 0.9;
-        render::PrimarySample ps;
-        ps.albedo = {a, a, a}, ps.normal = {0, 0, 1}, ps.depth = 2.0, ps.mask = -1;
-        const Vec3 c{a * 0.8 * (1 + 0.3 * normal()), a * 0.8 * (1 + 0.3 * normal()), a * 0.8 * (1 + 0.3 * normal())};
-        acc.add(p, ps);
-        moments[p].add(c);
-        sum += c;
-      }
-      clean.set(x, y, Vec3{0.48, 0.48, 0.48});
-      noisy.set(x, y, sum / kSpp);
-    }
-  acc.finish(moments);
-  const Image out = render::denoise(noisy, aovs);
-  std::printf("scattering albedo: RMSE noisy %.4f, denoised %.4f\n", rmse(noisy, clean), rmse(out, clean));
-  EXPECT_LT(rmse(out, clean), 0.075);
+  const Synthetic s = underUniformLight(
+      31, 0.3, [](int, std::function<double()>& uniform) { return uniform() < 0.5 ? 0.3 : 0.9; }, [](int) { return 0.6; });
+  const Image out = render::denoise(s.noisy, s.aovs);
+  std::printf("scattering albedo: RMSE noisy %.4f, denoised %.4f\n", rmse(s.noisy, s.clean), rmse(out, s.clean));
+  EXPECT_LT(rmse(out, s.clean), 0.075);
 }
 
 TEST(Denoise, SameBitsOnOneAndTwoThreads) {
