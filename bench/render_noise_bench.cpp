@@ -198,6 +198,27 @@ Error measure(const render::Image& x, const render::Image& r) {
   return e;
 }
 
+constexpr int kZoom = 4;  // the canned frames are small: images written for looking at are 4x
+
+/// `im` with each pixel a kZoom x kZoom block.
+render::Image zoomed(const render::Image& im) {
+  render::Image out(im.width * kZoom, im.height * kZoom);
+  for (int y = 0; y < out.height; ++y)
+    for (int x = 0; x < out.width; ++x) out.set(x, y, im.at(x / kZoom, y / kZoom));
+  return out;
+}
+
+/// A grey map of a per-pixel error, white at its largest (square root: the error's scale), zoomed.
+void writeErrorMap(const std::string& path, const std::vector<double>& perPixel, int width, int height) {
+  const double worst = perPixel.empty() ? 0 : *std::max_element(perPixel.begin(), perPixel.end());
+  render::Image map(width, height);
+  for (size_t p = 0; p < perPixel.size(); ++p) {
+    const float v = worst > 0 ? float(std::sqrt(perPixel[p] / worst)) : 0.f;
+    map.rgb[3 * p] = map.rgb[3 * p + 1] = map.rgb[3 * p + 2] = v;
+  }
+  render::writeImage(path, zoomed(map));
+}
+
 render::Image reference(const std::string& name, int spp, const std::string& dir) {
   const std::string path = fmt::format("{}/{}_{}spp.f32", dir, name, spp);
   render::Image im;
@@ -206,7 +227,7 @@ render::Image reference(const std::string& name, int spp, const std::string& dir
     in.read(reinterpret_cast<char*>(&im.height), sizeof(int));
     im.rgb.resize(size_t(im.width) * im.height * 3);
     in.read(reinterpret_cast<char*>(im.rgb.data()), im.rgb.size() * sizeof(float));
-    render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), im);
+    render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), zoomed(im));
     fmt::print("  reference {} (read)\n", path);
     return im;
   }
@@ -218,7 +239,7 @@ render::Image reference(const std::string& name, int spp, const std::string& dir
   out.write(reinterpret_cast<const char*>(&im.height), sizeof(int));
   out.write(reinterpret_cast<const char*>(im.rgb.data()), im.rgb.size() * sizeof(float));
   render::writeImage(fmt::format("{}/{}_{}spp.exr", dir, name, spp), im);
-  render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), im);
+  render::writeImage(fmt::format("{}/{}_{}spp.png", dir, name, spp), zoomed(im));
   fmt::print("  reference {} rendered in {:.1f} s\n", path, st.seconds);
   return im;
 }
@@ -250,11 +271,9 @@ Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, 
     const auto t0 = std::chrono::steady_clock::now();
     r.lastDenoised = render::denoise(r.last, aovs, denoiseSettings);
     r.denoiseSeconds = std::min(r.denoiseSeconds, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    for (size_t i = 0; i < ref.rgb.size(); ++i) {
-      r.denoisedMean.rgb[i] += r.lastDenoised.rgb[i] / reps;
-      const double e = double(r.lastDenoised.rgb[i]) - ref.rgb[i];
-      r.denoisedError[i / 3] += e * e / (double(ref.rgb[i]) * ref.rgb[i] + 0.01);
-    }
+    for (size_t i = 0; i < ref.rgb.size(); ++i) r.denoisedMean.rgb[i] += r.lastDenoised.rgb[i] / reps;
+    const std::vector<double> e = bench::relSquaredErrorPerPixel(r.lastDenoised, ref);
+    for (size_t p = 0; p < e.size(); ++p) r.denoisedError[p] += e[p];
     const Error d = measure(r.lastDenoised, ref);
     dmse += d.relRmse * d.relRmse / reps, r.denoised.black += d.black / reps, r.denoised.relMae += d.relMae / reps;
   }
@@ -262,22 +281,14 @@ Runs runs(const render::PathTracer& tracer, const render::Image& ref, int reps, 
   return r;
 }
 
-/// `im` with each pixel a k x k block, for looking at the small canned frames.
-render::Image zoomed(const render::Image& im, int k) {
-  render::Image out(im.width * k, im.height * k);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) out.set(x, y, im.at(x / k, y / k));
-  return out;
-}
-
 int repsFor(int spp) { return std::max(1, std::min(64, 512 / spp)); }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int compareSpp = 0;  // --compare-spp N: print the N-spp reference's error against the reference
   openvdb::initialize();
   int refSpp = 4096;
+  int compareSpp = 0;  // --compare-spp N: print the N-spp reference's error against the reference
   std::string dir = "/tmp/mf_noise_ref", sppList = "8", sceneList = "glass,lamp";
   bool equalTime = true;
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -335,37 +346,14 @@ int main(int argc, char** argv) {
                    "of the denoised squared error (map: {}_{}spp_error.png)\n",
                    reps, measure(r.denoisedMean, ref).relRmse, total > 0 ? 100 * top1 / total : 0.0,
                    total > 0 ? 100 * top10 / total : 0.0, name, spp);
-        constexpr int kZoom = 4;  // the canned frames are small: each pixel a 4x4 block
-        render::Image map(ref.width * kZoom, ref.height * kZoom);
-        const double worst = sorted.empty() ? 0 : sorted.front();
-        for (int y = 0; y < map.height; ++y)
-          for (int x = 0; x < map.width; ++x) {
-            const double e = r.denoisedError[size_t(y / kZoom) * size_t(ref.width) + size_t(x / kZoom)];
-            for (int c = 0; c < 3; ++c) map.rgb[3 * (size_t(y) * size_t(map.width) + size_t(x)) + c] = worst > 0 ? float(std::sqrt(e / worst)) : 0.f;
-          }
-        render::writeImage(fmt::format("{}/{}_{}spp_error.png", dir, name, spp), map);
+        writeErrorMap(fmt::format("{}/{}_{}spp_error.png", dir, name, spp), r.denoisedError, ref.width, ref.height);
         // The same for the mean of the denoised renders: the denoiser's bias.
-        std::vector<double> bias(r.denoisedError.size(), 0.0);
-        double worstBias = 0;
-        for (size_t p = 0; p < bias.size(); ++p) {
-          for (int c = 0; c < 3; ++c) {
-            const double e = double(r.denoisedMean.rgb[3 * p + c]) - ref.rgb[3 * p + c];
-            bias[p] += e * e / (double(ref.rgb[3 * p + c]) * ref.rgb[3 * p + c] + 0.01);
-          }
-          worstBias = std::max(worstBias, bias[p]);
-        }
-        for (int y = 0; y < map.height; ++y)
-          for (int x = 0; x < map.width; ++x) {
-            const double e = bias[size_t(y / kZoom) * size_t(ref.width) + size_t(x / kZoom)];
-            for (int c = 0; c < 3; ++c)
-              map.rgb[3 * (size_t(y) * size_t(map.width) + size_t(x)) + c] = worstBias > 0 ? float(std::sqrt(e / worstBias)) : 0.f;
-          }
-        render::writeImage(fmt::format("{}/{}_{}spp_bias.png", dir, name, spp), map);
+        writeErrorMap(fmt::format("{}/{}_{}spp_bias.png", dir, name, spp), bench::relSquaredErrorPerPixel(r.denoisedMean, ref),
+                      ref.width, ref.height);
       }
-      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), zoomed(r.last, 4));
-      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), zoomed(r.lastDenoised, 4));
-      render::writeImage(fmt::format("{}/{}_{}spp_denoised_mean.png", dir, name, spp), zoomed(r.denoisedMean, 4));
-      render::writeImage(fmt::format("{}/{}_reference.png", dir, name), zoomed(ref, 4));
+      render::writeImage(fmt::format("{}/{}_{}spp_now.png", dir, name, spp), zoomed(r.last));
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised.png", dir, name, spp), zoomed(r.lastDenoised));
+      render::writeImage(fmt::format("{}/{}_{}spp_denoised_mean.png", dir, name, spp), zoomed(r.denoisedMean));
       // Equal time: raw samples for the render's and the denoiser's time together.
       if (!equalTime) continue;
       const int eqSpp = std::max(spp, int(std::lround(spp * (r.renderSeconds + r.denoiseSeconds) / r.renderSeconds)));
