@@ -485,13 +485,17 @@ Real Simulation::step(Real maxDt) {
   return dt;
 }
 
+void Simulation::snapshotStep() {
+  savedPosition_ = ps_.position;
+  savedVelocity_ = ps_.velocity;
+  clampsBeforeStep_ = counters_.wallClamps;
+}
+
 Real Simulation::stepWcsph(Real maxDt) {
   computePressure();
   accumulateForces();
   Real dt = std::min(chooseDt(), maxDt);
-  savedPosition_ = ps_.position;
-  savedVelocity_ = ps_.velocity;
-  clampsBeforeStep_ = counters_.wallClamps;
+  snapshotStep();
   for (int attempt = 0;; ++attempt) {
     integrate(dt, savedPosition_, savedVelocity_);
     searchAndDensity();

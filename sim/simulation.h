@@ -124,6 +124,9 @@ class Simulation {
   void accelerate(Real dt, const std::vector<Vec3>& v0);
   /// x = x0 + dt v with the container clamp (the position half of integrate).
   void advect(Real dt, const std::vector<Vec3>& x0);
+  /// The watchdog's snapshot at a step's start: positions, velocities and the clamp count that
+  /// every try of the step starts again from.
+  void snapshotStep();
   /// The motion of one step, by the chosen pressure solver; returns the dt taken.
   Real stepWcsph(Real maxDt);
   Real stepDfsph(Real maxDt);  // Bender & Koschier 2017, Algorithm 1 (simulation_dfsph.cpp)

@@ -73,9 +73,7 @@ Real Simulation::stepDfsph(Real maxDt) {
   // particle's 4 % compression against a wall into 11 m/s. Where the time allowed is under two
   // flow steps, take half of it, so that a frame's last steps are at least half a flow step.
   Real dt = evenStep(maxDt, chooseDt());
-  savedPosition_ = ps_.position;
-  savedVelocity_ = ps_.velocity;
-  clampsBeforeStep_ = counters_.wallClamps;
+  snapshotStep();
   const std::vector<Real> savedPressure = ps_.pressure, savedDivergence = ps_.divergencePressure;
   for (int attempt = 0;; ++attempt) {
     accelerate(dt, savedVelocity_);  // v* from the non-pressure forces
