@@ -190,6 +190,7 @@ void perturbedDrops(const std::string& solver, Real R0, Real end, const std::vec
   const std::string phaseName = medium ? "drop" : "water";
   const Scene scene = parseScene(dropScene(solver, R0, end), "drop.toml", sets);
   const Real mu = scene.phases.at(size_t(scene.phaseIndex(phaseName))).viscosity;
+  const bool hasTension = solver == "dfsph" && !medium;  // as staticDrop reports it
   int pressureWithin = 0, tensionWithin = 0;
   Real lowest = 1e300, highest = -1e300;
   for (int k = 1; k <= runs; ++k) {
@@ -198,12 +199,12 @@ void perturbedDrops(const std::string& solver, Real R0, Real end, const std::vec
     const DropRatios r = staticDrop(solver, R0, end, perturbed);
     pressureWithin += std::fabs(r.pressure - 1) <= 0.1;
     tensionWithin += std::fabs(r.tension - 1) <= 0.1;
-    const Real figure = solver == "dfsph" && !medium ? r.tension : r.pressure;
+    const Real figure = hasTension ? r.tension : r.pressure;
     lowest = std::min(lowest, figure), highest = std::max(highest, figure);
   }
-  fmt::print("{:<6} R0 = {:.3f} m, {} perturbed runs: pressure within 10 % in {}, tension within 10 % in {}; {} from {:.3f} to {:.3f}\n",
-             solver, R0, runs, pressureWithin, solver == "dfsph" && !medium ? tensionWithin : 0,
-             solver == "dfsph" && !medium ? "tension ratio" : "pressure ratio", lowest, highest);
+  fmt::print("{:<6} R0 = {:.3f} m, {} perturbed runs: pressure within 10 % in {}{}; {} ratio from {:.3f} to {:.3f}\n", solver, R0,
+             runs, pressureWithin, hasTension ? fmt::format(", tension within 10 % in {}", tensionWithin) : std::string(),
+             hasTension ? "tension" : "pressure", lowest, highest);
 }
 
 // The n = 2 period. A drop seeded on the lattice does not oscillate from a stretched start: the
