@@ -33,6 +33,7 @@
 #include "sim/bodies.h"
 #include "sim/particle_io.h"
 #include "sim/scene_file.h"
+#include "bench_args.h"
 
 namespace fs = std::filesystem;
 using namespace mf;
@@ -90,8 +91,8 @@ int main(int argc, char** argv) {
   const fs::path dir = argv[1];
   double mid = std::nan(""), link = 1.5;
   for (int i = 2; i < argc; ++i) {
-    if (std::strncmp(argv[i], "mid=", 4) == 0) mid = std::atof(argv[i] + 4);
-    else if (std::strncmp(argv[i], "link=", 5) == 0) link = std::atof(argv[i] + 5);
+    if (std::strncmp(argv[i], "mid=", 4) == 0) mid = bench::number("mid", argv[i] + 4);
+    else if (std::strncmp(argv[i], "link=", 5) == 0) link = bench::number("link", argv[i] + 5);
     else {
       fmt::print(stderr, "body_stats: unknown argument '{}' (mid=Y, link=SPACINGS)\n", argv[i]);
       return 2;

@@ -38,6 +38,7 @@
 #include "bench/rel_rmse.h"
 #include "pipeline/process.h"
 #include "render/image.h"
+#include "bench_args.h"
 
 namespace fs = std::filesystem;
 using mf::pipeline::runProgram;
@@ -54,10 +55,9 @@ struct Options {
   std::string work;
 };
 
-std::vector<int> numbers(const std::string& s) {
+std::vector<int> numbers(const std::string& flag, const std::string& s) {
   std::vector<int> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) v.push_back(std::stoi(item));
+  for (long n : mf::bench::wholeList(flag, s)) v.push_back(int(n));
   return v;
 }
 
@@ -196,9 +196,9 @@ int main(int argc, char** argv) {
     else if (a == "--resolution") {
       const std::string v = next();
       if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2) throw std::runtime_error("--resolution WxH");
-    } else if (a == "--reference") o.reference = std::stoi(next());
-    else if (a == "--ours") o.ours = numbers(next());
-    else if (a == "--cycles") o.cycles = numbers(next());
+    } else if (a == "--reference") o.reference = int(mf::bench::whole(a, next()));
+    else if (a == "--ours") o.ours = numbers(a, next());
+    else if (a == "--cycles") o.cycles = numbers(a, next());
     else if (a == "--work") o.work = next();
     else if (a == "--frames") {
       o.frames.clear();
@@ -206,7 +206,7 @@ int main(int argc, char** argv) {
       for (std::string item; std::getline(ss, item, ',');) {
         const size_t c = item.find(':');
         if (c == std::string::npos) throw std::runtime_error("--frames SCENE:FRAME,...");
-        o.frames.push_back({item.substr(0, c), std::stoi(item.substr(c + 1))});
+        o.frames.push_back({item.substr(0, c), int(mf::bench::whole(a, item.substr(c + 1)))});
       }
     } else {
       fmt::print(stderr, "usage: cycles_bench [--multifluid PATH] [--frames SCENE:F,...] [--resolution WxH] [--reference SPP] "

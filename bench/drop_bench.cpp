@@ -262,7 +262,8 @@ void oscillatingDrop(const std::string& solver, Real R0, Real relax, const std::
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> solvers = {"dfsph", "wcsph"}, radii = {"0.035", "0.05", "0.08"}, sets;
+  std::vector<std::string> solvers = {"dfsph", "wcsph"}, sets;
+  std::vector<Real> radii = {0.035, 0.05, 0.08};
   Real end = 1, periodRadius = 0.05, relax = 1.5;
   bool trace = false;
   int perturb = 0;
@@ -270,12 +271,15 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
     if (a == "--solvers" && more) solvers = bench::splitCommas(argv[++i]);
-    else if (a == "--radii" && more) radii = bench::splitCommas(argv[++i]);
-    else if (a == "--end" && more) end = std::stod(argv[++i]);
-    else if (a == "--period-radius" && more) periodRadius = std::stod(argv[++i]);
+    else if (a == "--radii" && more) {
+      radii.clear();
+      for (const std::string& r : bench::splitCommas(argv[++i])) radii.push_back(bench::number(a, r));
+    }
+    else if (a == "--end" && more) end = bench::number(a, argv[++i]);
+    else if (a == "--period-radius" && more) periodRadius = bench::number(a, argv[++i]);
     else if (a == "--set" && more) sets.push_back(argv[++i]);
-    else if (a == "--relax" && more) relax = std::stod(argv[++i]);
-    else if (a == "--perturb" && more) perturb = std::stoi(argv[++i]);
+    else if (a == "--relax" && more) relax = bench::number(a, argv[++i]);
+    else if (a == "--perturb" && more) perturb = int(bench::whole(a, argv[++i]));
     else if (a == "--trace") trace = true;
     else if (a == "--medium") medium = true;
     else if (a == "--profile") profile = true;
@@ -287,9 +291,9 @@ int main(int argc, char** argv) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
   try {
     for (const std::string& s : solvers) {
-      for (const std::string& r : radii) {
-        staticDrop(s, std::stod(r), end, sets);
-        if (perturb > 0) perturbedDrops(s, std::stod(r), end, sets, perturb);
+      for (const Real r : radii) {
+        staticDrop(s, r, end, sets);
+        if (perturb > 0) perturbedDrops(s, r, end, sets, perturb);
       }
       if (periodRadius > 0) oscillatingDrop(s, periodRadius, relax, sets, trace);
     }

@@ -24,6 +24,7 @@
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "bench_args.h"
 
 namespace {
 
@@ -182,11 +183,11 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "{} needs a value\n", a);
       return 2;
     }
-    if (a == "--particles") particles = std::stol(argv[++i]);
-    else if (a == "--threads") threads = std::stol(argv[++i]);
-    else if (a == "--steps") steps = std::stoul(argv[++i]);
-    else if (a == "--scene-seconds") sceneSeconds = std::stod(argv[++i]);
-    else if (a == "--only") only = std::stoi(argv[++i]);
+    if (a == "--particles") particles = mf::bench::whole(a, argv[++i]);
+    else if (a == "--threads") threads = mf::bench::whole(a, argv[++i]);
+    else if (a == "--steps") steps = size_t(mf::bench::whole(a, argv[++i]));
+    else if (a == "--scene-seconds") sceneSeconds = mf::bench::number(a, argv[++i]);
+    else if (a == "--only") only = int(mf::bench::whole(a, argv[++i]));
     else {
       fmt::print(stderr,
                  "usage: effects_bench [--particles N] [--threads T] [--steps S] [--scene-seconds X] [--only 1|2]\n");

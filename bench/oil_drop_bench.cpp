@@ -162,8 +162,8 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
     if (a == "--particles" && more) counts = bench::splitCommas(argv[++i]);
-    else if (a == "--width" && more) width = std::stod(argv[++i]);
-    else if (a == "--end" && more) end = std::stod(argv[++i]);
+    else if (a == "--width" && more) width = bench::number(a, argv[++i]);
+    else if (a == "--end" && more) end = bench::number(a, argv[++i]);
     else if (a == "--set" && more) sets.push_back(argv[++i]);
     else {
       fmt::print(stderr, "usage: oil_drop_bench [--particles 30,100,200] [--width 0.2] [--end 2.5] [--set key=value]...\n");

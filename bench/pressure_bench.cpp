@@ -197,10 +197,10 @@ int main(int argc, char** argv) {
       return 2;
     }
     const std::string v = argv[++i];
-    if (a == "--end") end = std::stod(v);
+    if (a == "--end") end = mf::bench::number(a, v);
     else if (a == "--threads") {
       threads.clear();
-      for (const auto& t : mf::bench::splitCommas(v)) threads.push_back(std::stoi(t));
+      for (long t : mf::bench::wholeList(a, v)) threads.push_back(int(t));
     } else if (a == "--solvers") solvers = mf::bench::splitCommas(v);
     else if (a == "--peer") peer = v;
     else if (a == "--set") sets.push_back(v);

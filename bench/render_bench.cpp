@@ -12,6 +12,7 @@
 
 #include "render/path_tracer.h"
 #include "pipeline/scene_stages.h"
+#include "bench_args.h"
 
 using namespace mf;
 
@@ -23,8 +24,8 @@ static double cpuSeconds() {
 
 int main(int argc, char** argv) {
   openvdb::initialize();
-  const int width = argc > 3 ? std::atoi(argv[1]) : 480, height = argc > 3 ? std::atoi(argv[2]) : 270;
-  const int samples = argc > 3 ? std::atoi(argv[3]) : 16;
+  const int width = argc > 3 ? int(bench::whole("WIDTH", argv[1])) : 480, height = argc > 3 ? int(bench::whole("HEIGHT", argv[2])) : 270;
+  const int samples = argc > 3 ? int(bench::whole("SAMPLES", argv[3])) : 16;
   // The water-in-glass scene of the golden test, at benchmark size: a level-set ball of water
   // (voxel 1 mm) in a thick open glass on a checkered table, lit by a sphere light and the sky.
   const std::string text = fmt::format(R"(

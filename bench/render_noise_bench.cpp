@@ -39,6 +39,7 @@
 #include "render/denoise.h"
 #include "render/path_tracer.h"
 #include "pipeline/scene_stages.h"
+#include "bench_args.h"
 
 using namespace mf;
 
@@ -293,18 +294,17 @@ int main(int argc, char** argv) {
   bool equalTime = true;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--ref-spp") refSpp = std::atoi(argv[i + 1]);
+    if (a == "--ref-spp") refSpp = int(bench::whole(a, argv[i + 1]));
     else if (a == "--ref-dir") dir = argv[i + 1];
     else if (a == "--spp") sppList = argv[i + 1];
     else if (a == "--scenes") sceneList = argv[i + 1];
     else if (a == "--equal-time") equalTime = std::string(argv[i + 1]) != "false";
     else if (a == "--set") extraKeys.push_back(argv[i + 1]);
     else if (a == "--denoise") setDenoise(argv[i + 1]);
-    else if (a == "--compare-spp") compareSpp = std::atoi(argv[i + 1]);
+    else if (a == "--compare-spp") compareSpp = int(bench::whole(a, argv[i + 1]));
   }
   std::vector<int> spps;
-  std::stringstream ss(sppList);
-  for (std::string t; std::getline(ss, t, ',');) spps.push_back(std::atoi(t.c_str()));
+  for (long n : bench::wholeList("--spp", sppList)) spps.push_back(int(n));
   fmt::print("render_noise_bench: reference {} spp, {} threads\n", refSpp, tbb::info::default_concurrency());
   std::vector<std::string> names;
   std::stringstream sl(sceneList);

@@ -102,10 +102,10 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "{} needs a value\n", a);
       return 2;
     }
-    if (a == "--end") end = std::stod(argv[++i]);
+    if (a == "--end") end = mf::bench::number(a, argv[++i]);
     else if (a == "--scenes") scenes = mf::bench::splitCommas(argv[++i]);
     else if (a == "--solvers") solvers = mf::bench::splitCommas(argv[++i]);
-    else if (a == "--threads") threads = std::stoi(argv[++i]);
+    else if (a == "--threads") threads = int(mf::bench::whole(a, argv[++i]));
     else if (a == "--set") sets.push_back(argv[++i]);
     else {
       fmt::print(stderr, "usage: scene_solver_bench [--end T] [--scenes a,b] [--solvers wcsph,dfsph] [--threads N] [--set key=value]...\n");

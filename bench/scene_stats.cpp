@@ -29,6 +29,7 @@
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "sim/solids.h"
+#include "bench_args.h"
 
 namespace fs = std::filesystem;
 using namespace mf;
@@ -171,9 +172,9 @@ int main(int argc, char** argv) {
     if (argc >= 3 && std::strcmp(argv[1], "run") == 0) {
       Real end = 0;
       int k = 3;
-      if (argc > 3 && std::strchr(argv[3], '=') == nullptr) end = std::atof(argv[k++]);
+      if (argc > 3 && std::strchr(argv[3], '=') == nullptr) end = bench::number("END", argv[k++]);
       Real every = 0.25;
-      if (k < argc && std::strncmp(argv[k], "every=", 6) == 0) every = std::atof(argv[k++] + 6);
+      if (k < argc && std::strncmp(argv[k], "every=", 6) == 0) every = bench::number("every", argv[k++] + 6);
       if (!(every > 0)) throw std::runtime_error("every= must be positive");
       bool slice = false;
       if (k < argc && std::strcmp(argv[k], "slice") == 0) {

@@ -20,15 +20,9 @@
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "bench_args.h"
 
 namespace {
-
-std::vector<long> parseList(const std::string& s) {
-  std::vector<long> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, ',');) v.push_back(std::stol(item));
-  return v;
-}
 
 double peakMiB() {
   rusage u{};
@@ -59,10 +53,10 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "{} needs a value\n", a);
       return 2;
     }
-    if (a == "--particles") sizes = parseList(argv[++i]);
-    else if (a == "--threads") threads = parseList(argv[++i]);
-    else if (a == "--seconds") seconds = std::stod(argv[++i]);
-    else if (a == "--steps") fixedSteps = std::stol(argv[++i]);
+    if (a == "--particles") sizes = mf::bench::wholeList(a, argv[++i]);
+    else if (a == "--threads") threads = mf::bench::wholeList(a, argv[++i]);
+    else if (a == "--seconds") seconds = mf::bench::number(a, argv[++i]);
+    else if (a == "--steps") fixedSteps = mf::bench::whole(a, argv[++i]);
     else if (a == "--set") sets.push_back(argv[++i]);
     else {
       fmt::print(stderr, "usage: sim_bench [--particles N,N] [--threads T,T] [--seconds S | --steps N] [--set key=value]\n");

@@ -26,6 +26,7 @@
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "bench_args.h"
 
 namespace {
 
@@ -200,14 +201,14 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
-    if (a == "--end" && more) end = std::stod(argv[++i]);
+    if (a == "--end" && more) end = mf::bench::number(a, argv[++i]);
     else if (a == "--solvers" && more) {
       solvers.clear();
       std::stringstream ss(argv[++i]);
       for (std::string s; std::getline(ss, s, ',');) solvers.push_back(s);
     } else if (a == "--peer" && more) peer = argv[++i];
     else if (a == "--set" && more) sets.push_back(argv[++i]);
-    else if (a == "--peer-limit" && more) peerLimit = std::stoi(argv[++i]);
+    else if (a == "--peer-limit" && more) peerLimit = int(mf::bench::whole(a, argv[++i]));
     else {
       fmt::print(stderr, "usage: still_tank_bench [--end 2] [--solvers dfsph,wcsph] [--peer DIR|none] [--peer-limit S] [--set key=value]...\n");
       return 2;

@@ -25,6 +25,7 @@
 #include "pipeline/scene_stages.h"
 #include "surfacing/mesh_io.h"
 #include "surfacing/particle_surface.h"
+#include "bench_args.h"
 
 using openvdb::Vec3d;
 
@@ -164,10 +165,9 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--particles") {
       sizes.clear();
-      std::stringstream ss(argv[i + 1]);
-      for (std::string t; std::getline(ss, t, ',');) sizes.push_back(std::stol(t));
+      for (long n : mf::bench::wholeList(a, argv[i + 1])) sizes.push_back(n);
     } else if (a == "--curvature-iterations") {
-      iterations = std::atoi(argv[i + 1]);
+      iterations = int(mf::bench::whole(a, argv[i + 1]));
     }
   }
   openvdb::initialize();
