@@ -156,12 +156,13 @@ void risingDrop(const Liquids& l, long particles, Real width, Real end, const st
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> counts = {"30", "100", "200"}, sets;
+  std::vector<std::string> sets;
+  std::vector<long> counts = {30, 100, 200};
   Real width = 0.2, end = 2.5;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool more = i + 1 < argc;
-    if (a == "--particles" && more) counts = bench::splitCommas(argv[++i]);
+    if (a == "--particles" && more) counts = bench::wholeList(a, argv[++i]);
     else if (a == "--width" && more) width = bench::number(a, argv[++i]);
     else if (a == "--end" && more) end = bench::number(a, argv[++i]);
     else if (a == "--set" && more) sets.push_back(argv[++i]);
@@ -173,7 +174,7 @@ int main(int argc, char** argv) {
   tbb::global_control threads(tbb::global_control::max_allowed_parallelism, 2);
   try {
     const Liquids l = shippedLiquids();
-    for (const std::string& n : counts) risingDrop(l, std::stol(n), width, end, sets);
+    for (const long n : counts) risingDrop(l, n, width, end, sets);
   } catch (const std::exception& e) {
     fmt::print(stderr, "oil_drop_bench: {}\n", e.what());
     return 1;
