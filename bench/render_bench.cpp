@@ -7,7 +7,6 @@
 #include <openvdb/tools/LevelSetSphere.h>
 #include <tbb/info.h>
 
-#include <cstdlib>
 #include <ctime>
 
 #include "render/path_tracer.h"

@@ -14,7 +14,6 @@
 #include <chrono>
 #include <thread>
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 

@@ -19,7 +19,6 @@
 #include <chrono>
 #include <cmath>
 #include <random>
-#include <sstream>
 #include <thread>
 
 #include "pipeline/scene_stages.h"
