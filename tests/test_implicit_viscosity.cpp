@@ -1,8 +1,10 @@
 // The implicit viscosity of the DFSPH path (sim/effects/implicit_viscosity.h): a shear layer
-// diffuses as the heat equation says, at steps beyond the explicit limit, and momentum is kept.
+// diffuses as the heat equation says, at steps beyond the explicit limit (backward Euler) and
+// within it (forward Euler where max theta <= 1/2), and momentum is kept.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -45,6 +47,7 @@ struct ShearResult {
   Real rmsError = 0;  // over the particles away from the free surfaces, relative to U
   Real momentum = 0;  // |sum m v| / sum m |v|, relative drift of the total
   uint64_t steps = 0;
+  double explicitShare = -1;  // of the steps taken by forward Euler
 };
 
 ShearResult runShear(Real maxDt) {
@@ -63,7 +66,11 @@ ShearResult runShear(Real maxDt) {
     sum += (ps.velocity[i].x - expected) * (ps.velocity[i].x - expected);
     ++n;
   }
-  return {std::sqrt(sum / n) / U, std::fabs(px) / norm, sim.counters().steps};
+  ShearResult result{std::sqrt(sum / n) / U, std::fabs(px) / norm, sim.counters().steps};
+  for (const auto& e : sim.effects())
+    for (const auto& [key, value] : e->statistics())
+      if (key.find("explicitly") != std::string::npos) result.explicitShare = value;
+  return result;
 }
 
 }  // namespace
@@ -81,4 +88,20 @@ TEST(ImplicitViscosity, ShearLayerDiffusesAsTheHeatEquationSays) {
   // Pairwise symmetric weights: the total momentum (zero) stays zero up to CG's residual.
   EXPECT_LT(atLimit.momentum, 1e-6);
   EXPECT_LT(beyond.momentum, 1e-6);
+  // Both solved: theta = dt (sum_j w_ij) / m_i is about 1.9 at 5 ms.
+  EXPECT_EQ(atLimit.explicitShare, 0.0);
+  EXPECT_EQ(beyond.explicitShare, 0.0);
+}
+
+// At 1.2 ms theta is under 1/2 for every particle, so every step is forward Euler: the same
+// profile (measured 0.0042 U, under backward Euler's 0.014 U at 5 ms, as a smaller first-order
+// step should be), and the momentum kept to rounding, since each pair's exchange is antisymmetric
+// and no iteration stops short (measured 2e-16).
+TEST(ImplicitViscosity, WithinHalfTheExplicitLimitTheStepIsForwardEuler) {
+  const ShearResult small = runShear(0.0012);
+  std::printf("  dt 1.2 ms: rms error %.4f U in %llu steps, share explicit %.2f, momentum %.2g\n", small.rmsError,
+              (unsigned long long)small.steps, small.explicitShare, small.momentum);
+  EXPECT_EQ(small.explicitShare, 1.0);
+  EXPECT_LT(small.rmsError, 0.01);
+  EXPECT_LT(small.momentum, 1e-12);
 }

@@ -1,11 +1,13 @@
 #include "implicit_viscosity.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <Eigen/Core>
 #include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace mf::effects {
 namespace {
@@ -147,11 +149,61 @@ struct generic_product_impl<mf::effects::ViscousOperator, Rhs, SparseShape, Dens
 
 namespace mf::effects {
 
+namespace {
+
+/// The forward-Euler step of the same operator, and max theta_i; the new velocities are written
+/// only where max theta_i <= 1/2 (each particle gathers from the old ones).
+Real explicitViscosityStep(const StepContext& ctx, ParticleSet& ps, Real dt, Real wallFriction) {
+  const size_t n = ps.size();
+  const SphKernels& K = ctx.kernels;
+  std::vector<Vec3> next(n);
+  const Real theta = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n, 512), Real(0),
+      [&](const tbb::blocked_range<size_t>& r, Real worst) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const Vec3 xi = ps.position[i], vi = ps.velocity[i];
+          Real sum = 0;
+          Vec3 pull;
+          for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
+            const uint32_t j = ctx.fluidNeighbors.indices[k];
+            const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ps.position[j])));
+            const Real w = ps.volume[i] * ps.volume[j] * 0.5 * (ps.viscosity[i] + ps.viscosity[j]) * K.viscosityLaplacian(rl);
+            sum += w;
+            pull += (ps.velocity[j] - vi) * w;
+          }
+          if (wallFriction > 0) {
+            const Real scale = wallFriction * ps.viscosity[i] * ps.restDensity[i] / ps.density[i];
+            Real c = 0;
+            for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+              const uint32_t b = ctx.boundaryNeighbors.indices[k];
+              const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ctx.boundary.position[b])));
+              c += ps.volume[i] * ctx.boundary.volume[b] * scale * K.viscosityLaplacian(rl);
+            }
+            sum += c;
+            pull -= vi * c;
+          }
+          next[i] = vi + pull * (dt / ps.mass[i]);
+          worst = std::max(worst, dt * sum / ps.mass[i]);
+        }
+        return worst;
+      },
+      [](Real a, Real b) { return std::max(a, b); });
+  if (theta <= 0.5) ps.velocity.swap(next);
+  return theta;
+}
+
+}  // namespace
+
 ImplicitViscosityStats solveImplicitViscosity(const StepContext& ctx, ParticleSet& ps, Real dt, Real wallFriction,
                                               Real tolerance, int maxIterations) {
   ImplicitViscosityStats stats;
   const size_t n = ps.size();
   if (n == 0) return stats;
+  stats.theta = explicitViscosityStep(ctx, ps, dt, wallFriction);
+  if (stats.theta <= 0.5) {
+    stats.explicitStep = true;
+    return stats;
+  }
   const ViscousOperator A(ctx, ps, dt, wallFriction);
   Eigen::ConjugateGradient<ViscousOperator, Eigen::Lower | Eigen::Upper, JacobiPreconditioner> cg;
   cg.setTolerance(tolerance);

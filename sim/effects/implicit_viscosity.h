@@ -14,12 +14,18 @@
 namespace mf::effects {
 
 struct ImplicitViscosityStats {
+  bool explicitStep = false;  // taken by forward Euler: max theta_i <= 1/2 (below)
+  Real theta = 0;             // max over particles of dt (sum_j w_ij + c_i) / m_i
   int iterations = 0;  // the most any component needed
   Real error = 0;      // its relative residual
   bool converged = true;
 };
 
 /// Replaces ps.velocity (the predicted v*) by the solution; `tolerance` is CG's relative residual.
+/// Where every particle has theta_i = dt (sum_j w_ij + c_i) / m_i <= 1/2, the step is taken by
+/// forward Euler instead, m_i v_i = m_i v*_i - dt (sum_j w_ij (v*_i - v*_j) + c_i v*_i): by
+/// Gershgorin dt lambda_max(M^-1 L) <= 2 max theta_i <= 1, so every mode decays without changing
+/// sign, as backward Euler's do, at the cost of one pass instead of a solve per component.
 ImplicitViscosityStats solveImplicitViscosity(const StepContext& ctx, ParticleSet& ps, Real dt, Real wallFriction,
                                               Real tolerance, int maxIterations);
 

@@ -28,6 +28,7 @@ class Viscosity final : public Effect {
     // 1e-6 relative residual: far below the pressure solve's 5e-4 density tolerance.
     const ImplicitViscosityStats s = solveImplicitViscosity(ctx, ps, dt, wallFriction_, 1e-6, 500);
     ++solves_;
+    explicit_ += s.explicitStep;
     iterations_ += uint64_t(s.iterations);
     if (s.converged) return {};
     return fmt::format("the implicit viscosity solve did not converge in {} iterations (relative residual {:.2g})", s.iterations, s.error);
@@ -35,7 +36,8 @@ class Viscosity final : public Effect {
 
   std::vector<std::pair<std::string, double>> statistics() const override {
     if (!implicit_) return {};
-    return {{"implicit viscosity: CG iterations per step", solves_ ? double(iterations_) / double(solves_) : 0.0}};
+    return {{"implicit viscosity: CG iterations per step", solves_ ? double(iterations_) / double(solves_) : 0.0},
+            {"implicit viscosity: share of steps taken explicitly (max theta <= 1/2)", solves_ ? double(explicit_) / double(solves_) : 0.0}};
   }
 
   void accumulateForces(const StepContext& ctx, ParticleSet& ps) override {
@@ -81,7 +83,7 @@ class Viscosity final : public Effect {
  private:
   Real wallFriction_, stabilityFactor_;
   bool implicit_;
-  uint64_t solves_ = 0, iterations_ = 0;
+  uint64_t solves_ = 0, iterations_ = 0, explicit_ = 0;
 };
 
 }  // namespace
