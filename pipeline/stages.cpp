@@ -251,6 +251,11 @@ std::string runSimulation(const StageOptions& opt, const Scene& scene, const fs:
                         steps ? double(c.divergenceIterations - divergence0) / double(steps) : 0.0, c.compressionPasses - passes0),
       sim.time() > time0 ? tSim / (sim.time() - time0) : 0.0) + [&] {
         std::string w;
+        for (const auto& e : sim.effects()) {  // each effect's own counts (since this process started)
+          std::string counts;
+          for (const auto& [key, value] : e->statistics()) counts += fmt::format("{}{} {:g}", counts.empty() ? "" : "; ", key, value);
+          if (!counts.empty()) w += fmt::format("  {}: {}\n", e->name(), counts);
+        }
         for (const std::string& line : runWarnings(sim, seeded)) w += "  warning: " + line + "\n";
         return w;
       }();
