@@ -12,6 +12,24 @@
 namespace mf::effects {
 namespace {
 
+/// w_ij of eq. 9 between fluid particles i and j at distance rl (symmetric, >= 0).
+inline Real pairWeight(const ParticleSet& ps, const SphKernels& K, size_t i, uint32_t j, Real rl) {
+  return ps.volume[i] * ps.volume[j] * 0.5 * (ps.viscosity[i] + ps.viscosity[j]) * K.viscosityLaplacian(rl);
+}
+
+/// c_i: the no-slip walls' drag on particle i (wall_friction f), summed over its wall samples.
+inline Real wallWeight(const StepContext& ctx, const ParticleSet& ps, size_t i, Real wallFriction) {
+  if (wallFriction <= 0) return 0;
+  const Real scale = wallFriction * ps.viscosity[i] * ps.restDensity[i] / ps.density[i];
+  Real c = 0;
+  for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
+    const uint32_t b = ctx.boundaryNeighbors.indices[k];
+    const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(ps.position[i], ctx.boundary.position[b])));
+    c += ps.volume[i] * ctx.boundary.volume[b] * scale * ctx.kernels.viscosityLaplacian(rl);
+  }
+  return c;
+}
+
 // A x for one velocity component, from the neighbour lists: Eigen's matrix-free interface.
 class ViscousOperator;
 
@@ -48,18 +66,10 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
         for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k, ++w) {
           const uint32_t j = ctx.fluidNeighbors.indices[k];
           const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ps.position[j])));
-          weight_[w] = ps.volume[i] * ps.volume[j] * 0.5 * (ps.viscosity[i] + ps.viscosity[j]) * K.viscosityLaplacian(rl);
+          weight_[w] = pairWeight(ps, K, i, j, rl);
           sum += weight_[w];
         }
-        if (wallFriction > 0) {
-          const Real scale = wallFriction * ps.viscosity[i] * ps.restDensity[i] / ps.density[i];
-          for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-            const uint32_t b = ctx.boundaryNeighbors.indices[k];
-            const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ctx.boundary.position[b])));
-            sum += ps.volume[i] * ctx.boundary.volume[b] * scale * K.viscosityLaplacian(rl);
-          }
-        }
-        diagonal_[Eigen::Index(i)] = ps.mass[i] + dt * sum;
+        diagonal_[Eigen::Index(i)] = ps.mass[i] + dt * (sum + wallWeight(ctx, ps, i, wallFriction));
       }
     });
   }
@@ -167,21 +177,13 @@ Real explicitViscosityStep(const StepContext& ctx, ParticleSet& ps, Real dt, Rea
           for (uint64_t k = ctx.fluidNeighbors.begin(i), e = ctx.fluidNeighbors.end(i); k < e; ++k) {
             const uint32_t j = ctx.fluidNeighbors.indices[k];
             const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ps.position[j])));
-            const Real w = ps.volume[i] * ps.volume[j] * 0.5 * (ps.viscosity[i] + ps.viscosity[j]) * K.viscosityLaplacian(rl);
+            const Real w = pairWeight(ps, K, i, j, rl);
             sum += w;
             pull += (ps.velocity[j] - vi) * w;
           }
-          if (wallFriction > 0) {
-            const Real scale = wallFriction * ps.viscosity[i] * ps.restDensity[i] / ps.density[i];
-            Real c = 0;
-            for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
-              const uint32_t b = ctx.boundaryNeighbors.indices[k];
-              const Real rl = std::sqrt(lengthSquared(ctx.periodic.separation(xi, ctx.boundary.position[b])));
-              c += ps.volume[i] * ctx.boundary.volume[b] * scale * K.viscosityLaplacian(rl);
-            }
-            sum += c;
-            pull -= vi * c;
-          }
+          const Real c = wallWeight(ctx, ps, i, wallFriction);
+          sum += c;
+          pull -= vi * c;
           next[i] = vi + pull * (dt / ps.mass[i]);
           worst = std::max(worst, dt * sum / ps.mass[i]);
         }
