@@ -201,11 +201,8 @@ ImplicitViscosityStats solveImplicitViscosity(const StepContext& ctx, ParticleSe
   ImplicitViscosityStats stats;
   const size_t n = ps.size();
   if (n == 0) return stats;
-  stats.theta = explicitViscosityStep(ctx, ps, dt, wallFriction);
-  if (stats.theta <= 0.5) {
-    stats.explicitStep = true;
-    return stats;
-  }
+  stats.explicitStep = explicitViscosityStep(ctx, ps, dt, wallFriction) <= 0.5;
+  if (stats.explicitStep) return stats;
   const ViscousOperator A(ctx, ps, dt, wallFriction);
   Eigen::ConjugateGradient<ViscousOperator, Eigen::Lower | Eigen::Upper, JacobiPreconditioner> cg;
   cg.setTolerance(tolerance);

@@ -15,7 +15,6 @@ namespace mf::effects {
 
 struct ImplicitViscosityStats {
   bool explicitStep = false;  // taken by forward Euler: max theta_i <= 1/2 (below)
-  Real theta = 0;             // max over particles of dt (sum_j w_ij + c_i) / m_i
   int iterations = 0;  // the most any component needed
   Real error = 0;      // its relative residual
   bool converged = true;
