@@ -128,7 +128,13 @@ Real Simulation::stepDfsph(Real maxDt) {
       counters_.lastDivergenceError = divergence.meanError;
       return dt;
     }
-    ps_.pressure = savedPressure;
+    // A constant-density solve that ran out of iterations has still come nearer the answer (it
+    // is what left a particle invalid, if one is): the retry goes on from its pressure instead of
+    // redoing that work from the step's start. A large fluid's first steps need more iterations
+    // than the cap while the solve turns the seeded column pressure into the flow's.
+    const bool keepPressure = implicitFailure.empty() && !density.converged &&
+                              std::all_of(ps_.pressure.begin(), ps_.pressure.end(), [](Real p) { return std::isfinite(p); });
+    if (!keepPressure) ps_.pressure = savedPressure;
     ps_.divergencePressure = savedDivergence;
     retryOrStop(attempt, dt, bad, why, parameter);
     dt *= 0.5;
