@@ -136,7 +136,12 @@ Real Simulation::stepDfsph(Real maxDt) {
                               std::all_of(ps_.pressure.begin(), ps_.pressure.end(), [](Real p) { return std::isfinite(p); });
     if (!keepPressure) ps_.pressure = savedPressure;
     ps_.divergencePressure = savedDivergence;
-    retryOrStop(attempt, dt, bad, why, parameter);
+    try {
+      retryOrStop(attempt, dt, bad, why, parameter);
+    } catch (const NumericalInstability&) {
+      ps_.pressure = savedPressure;  // a stopped run is left as the step found it
+      throw;
+    }
     dt *= 0.5;
   }
 }
