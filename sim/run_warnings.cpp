@@ -23,7 +23,7 @@ std::vector<std::string> runWarnings(const Simulation& sim, const std::vector<si
         "pressure to stop them{})",
         c.wallClamps,
         scene.solver.pressure == PressureSolverChoice::WCSPH ? "; the implicit solver's walls need none: solver.pressure = \"dfsph\"" : ""));
-  if (c.retries > 0) w.push_back(fmt::format("{} steps were retried with a smaller dt; the last at {}", c.retries, sim.lastRetry()));
+  if (c.retries > 0) w.push_back(fmt::format("{} {} retried with a smaller dt; the last at {}", c.retries, c.retries == 1 ? "step was" : "steps were", sim.lastRetry()));
   if (c.maxDensityError > 0.1)
     w.push_back(fmt::format("the most compressed particle reached {:.1f} % (over 10 %: the volume is not kept there; {})",
                             100 * c.maxDensityError,
