@@ -41,7 +41,19 @@ struct StepContext {
   // Pair separations: x_i - x_j is periodic.separation(x_i, x_j) (the nearest image); it is
   // plain subtraction, bit for bit, when no axis wraps. Pass it to findNeighbors too.
   PeriodicDomain periodic;
+  // Per phase, the added density of its inertia (PhaseSpec::addedDensity); null where no phase has one.
+  const std::vector<Real>* addedDensity = nullptr;
 };
+
+/// The density particle i's inertia has: its rest density plus its phase's added density. Every
+/// force and the pressure accelerate it by 1 / (this V); its weight stays m g.
+inline Real inertialDensity(const StepContext& ctx, const ParticleSet& ps, size_t i) {
+  return ctx.addedDensity ? ps.restDensity[i] + (*ctx.addedDensity)[ps.phase[i]] : ps.restDensity[i];
+}
+/// The mass forces accelerate: m (rho0 + added) / rho0.
+inline Real inertialMass(const StepContext& ctx, const ParticleSet& ps, size_t i) {
+  return ctx.addedDensity ? ps.mass[i] * (inertialDensity(ctx, ps, i) / ps.restDensity[i]) : ps.mass[i];
+}
 
 /// Births and removals that effects ask for after an accepted step. The simulation applies them
 /// once all effects have decided, on the same state: removals keep the order (and ids) of the

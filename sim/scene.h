@@ -22,6 +22,10 @@ struct PhaseSpec {
   Real stiffness = 1000;     // k in P = k (rho - rho0), m^2/s^2 (speed of sound c = sqrt(k))
   Real viscosity = 0;        // mu, Pa s, mixed pairwise as (mu_i + mu_j) / 2 (eq. 9)
   Real particleMass = 0;     // kg; 0: chosen so that a particle on the seeding lattice has rho0
+  // kg/m^3 the particle's inertia carries beyond its rest density: a bubble moves as if it carried
+  // about half its volume of the liquid around it (its added mass), while its weight and volume
+  // keep rest_density. 0 for a liquid.
+  Real addedDensity = 0;
   // Material constants read by the effects that use them (ignored, and reported by the scene
   // reader, when that effect is not enabled).
   Real interfaceColour = 0;       // c_i of this fluid (interface_tension); e.g. water -0.5, oil +0.5

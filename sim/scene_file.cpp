@@ -335,6 +335,7 @@ Scene readSimulation(SceneDocument& doc) {
       if (!sc.solver.pressureNamed && t.has("stiffness")) r.problem(t.node("stiffness"), t.path("stiffness"), kWcsphKeyUnnamed);
       p.viscosity = t.number("viscosity", p.viscosity, 0, 1e7, "Pa s");
       p.particleMass = t.number("particle_mass", p.particleMass, 0, 1e6, "kg (0 = from rest density and spacing)");
+      p.addedDensity = t.number("added_density", p.addedDensity, 0, 1e6, "kg/m^3");
       p.interfaceColour = t.number("interface_colour", p.interfaceColour, -10, 10);
       p.surfaceColour = t.number("surface_colour", p.surfaceColour, 0, 1, "(1 liquid, 0 gas)");
       p.surfaceTension = t.number("surface_tension", p.surfaceTension, 0, 1e4, "N/m");

@@ -118,6 +118,12 @@ Simulation::Simulation(const Scene& scene)
     surfaceMissing_.scale = (1 - filled) / surfaceMissing_.unscaled(zeta);
   }
 
+  for (const PhaseSpec& p : scene_.phases)
+    if (p.addedDensity > 0) {
+      for (const PhaseSpec& q : scene_.phases) addedDensity_.push_back(q.addedDensity);
+      break;
+    }
+
   const Real wallSpacing = st.particleSpacing * st.boundarySpacingRatio;
   const bool implicit = st.pressure == PressureSolverChoice::DFSPH;
   const WallCalibration wall0 = implicit ? calibrateImplicitWall(kernels_, st.particleSpacing, wallSpacing) : WallCalibration{};
@@ -244,7 +250,7 @@ StepContext Simulation::context() const {
   return {kernels_,    fluidNeighbors_, boundaryNeighbors_,
           boundary_,   time_,           &fluidGrid_,
           boundary_.size() > 0 ? &boundaryGrid_ : nullptr, gridOrigin_, scene_.solver.particleSpacing,
-          scene_.periodic()};
+          scene_.periodic(), addedDensity_.empty() ? nullptr : &addedDensity_};
 }
 
 void Simulation::refresh() { searchAndDensity(); }
@@ -277,8 +283,10 @@ Real Simulation::chooseDt() const {
   const size_t n = ps_.size();
   const Real vmax = std::sqrt(parallelMax(n, [&](size_t i) { return lengthSquared(ps_.velocity[i]); }));
   const Real kmax = parallelMax(n, [&](size_t i) { return ps_.stiffness[i]; });
+  const StepContext ctx = context();
   const Real amax = std::sqrt(parallelMax(n, [&](size_t i) {
-    return lengthSquared(ps_.force[i]) / (ps_.mass[i] * ps_.mass[i]);
+    const Real m = inertialMass(ctx, ps_, i);
+    return lengthSquared(ps_.force[i]) / (m * m);
   }));
   Real dt = st.maxDt;
   dtLimiter_ = "solver.max_dt";
@@ -293,7 +301,6 @@ Real Simulation::chooseDt() const {
     if (speed > 0) offer(st.cfl * kernels_.h / speed, "the sound speed and flow speed (solver.cfl, phase stiffness)");
   }
   if (amax > 0) offer(st.forceFactor * std::sqrt(kernels_.h / amax), "the largest acceleration (solver.force_factor)");
-  const StepContext ctx = context();
   for (const auto& e : effects_) offer(e->maxTimeStep(ctx, ps_), e->name());
   if (dt < st.minDt) dt = st.minDt, dtLimiter_ = "solver.min_dt";
   return dt;
@@ -329,8 +336,9 @@ void Simulation::advect(Real dt, const std::vector<Vec3>& x0) {
 
 void Simulation::accelerate(Real dt, const std::vector<Vec3>& v0) {
   const auto t0 = Clock::now();
+  const StepContext ctx = context();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, ps_.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) ps_.velocity[i] = v0[i] + ps_.force[i] * (dt / ps_.mass[i]);
+    for (size_t i = r.begin(); i != r.end(); ++i) ps_.velocity[i] = v0[i] + ps_.force[i] * (dt / inertialMass(ctx, ps_, i));
   });
   times_.integrate += since(t0);
 }

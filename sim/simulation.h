@@ -150,6 +150,7 @@ class Simulation {
   SphKernels kernels_;
   HalfSpaceMissing surfaceMissing_;  // solver.free_surface_completion only
   Vec3 gridOrigin_;
+  std::vector<Real> addedDensity_;  // per phase, where any phase has one (StepContext::addedDensity)
   Real wallOffset_ = 0;
   std::string lastRetry_;
   ParticleSet ps_;

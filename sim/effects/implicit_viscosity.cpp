@@ -69,7 +69,7 @@ class ViscousOperator : public Eigen::EigenBase<ViscousOperator> {
           weight_[w] = pairWeight(ps, K, i, j, rl);
           sum += weight_[w];
         }
-        diagonal_[Eigen::Index(i)] = ps.mass[i] + dt * (sum + wallWeight(ctx, ps, i, wallFriction));
+        diagonal_[Eigen::Index(i)] = inertialMass(ctx, ps, i) + dt * (sum + wallWeight(ctx, ps, i, wallFriction));
       }
     });
   }
@@ -184,8 +184,9 @@ Real explicitViscosityStep(const StepContext& ctx, ParticleSet& ps, Real dt, Rea
           const Real c = wallWeight(ctx, ps, i, wallFriction);
           sum += c;
           pull -= vi * c;
-          next[i] = vi + pull * (dt / ps.mass[i]);
-          worst = std::max(worst, dt * sum / ps.mass[i]);
+          const Real m = inertialMass(ctx, ps, i);
+          next[i] = vi + pull * (dt / m);
+          worst = std::max(worst, dt * sum / m);
         }
         return worst;
       },
@@ -213,11 +214,11 @@ ImplicitViscosityStats solveImplicitViscosity(const StepContext& ctx, ParticleSe
   // all but zero (a stream falling straight down has |m v_x| ~ 1e-149) underflows Eigen's own
   // relative test, which then reports a failure after 0 iterations.
   Real momentum2 = 0;
-  for (size_t i = 0; i < n; ++i) momentum2 += lengthSquared(ps.velocity[i]) * ps.mass[i] * ps.mass[i];
+  for (size_t i = 0; i < n; ++i) momentum2 += lengthSquared(ps.velocity[i]) * inertialMass(ctx, ps, i) * inertialMass(ctx, ps, i);
   const Real momentum = std::sqrt(momentum2);
   for (int c = 0; c < 3; ++c) {
     for (size_t i = 0; i < n; ++i) {
-      rhs[Eigen::Index(i)] = ps.mass[i] * ps.velocity[i][c];
+      rhs[Eigen::Index(i)] = inertialMass(ctx, ps, i) * ps.velocity[i][c];
       guess[Eigen::Index(i)] = ps.velocity[i][c];  // v* is close to the answer
     }
     const Eigen::VectorXd v = cg.solveWithGuess(rhs, guess);

@@ -48,7 +48,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
       const Vec3 gv = g * Vj;
       fluidGrad_[k] = GradF::of(gv);
       grad += gv;
-      others += Vj * lengthSquared(g) / ps.restDensity[j];
+      others += Vj * lengthSquared(g) / inertialDensity(ctx, ps, j);
     }
     for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
       const uint32_t b = ctx.boundaryNeighbors.indices[k];
@@ -57,7 +57,7 @@ void DfsphSolver::computeDiagonal(const StepContext& ctx, const ParticleSet& ps,
       wallGrad_[k] = GradF::of(gv);
       gradB += gv;
     }
-    diagonal_[i] = lengthSquared(grad + gradB) / ps.restDensity[i] + ps.mass[i] / ps.restDensity[i] * others;
+    diagonal_[i] = lengthSquared(grad + gradB) / inertialDensity(ctx, ps, i) + ps.mass[i] / ps.restDensity[i] * others;
   };
   const size_t count = only ? only->size() : n;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
@@ -90,7 +90,7 @@ inline Vec3 DfsphSolver::velocityChange(const StepContext& ctx, const ParticleSe
     for (uint64_t k = ctx.boundaryNeighbors.begin(i), e = ctx.boundaryNeighbors.end(i); k < e; ++k) {
       acc += wallGrad_[k].vec() * pi;
     }
-  return acc * (dt / ps.restDensity[i]);
+  return acc * (dt / inertialDensity(ctx, ps, i));
 }
 
 inline Real DfsphSolver::jacobiPressure(size_t i, Real p, Real error, Real stepScale) const {
@@ -279,7 +279,7 @@ PressureSolveStats DfsphSolver::solveDensity(const StepContext& ctx, ParticleSet
     const Real pref = ref.weight * at.head;
     p[i] -= pref;
     lower_[i] = -pref;
-    ps.velocity[i] += ref.up * (dt * ref.weight * at.slope / ps.restDensity[i]);
+    ps.velocity[i] += ref.up * (dt * ref.weight * at.slope / inertialDensity(ctx, ps, i));
   }
   const PressureSolveStats stats = worst(solve(ctx, ps, p, dt, 1 / (dt * dt), 1, mean, error));
   for (size_t i = 0; i < n; ++i) p[i] -= lower_[i];
