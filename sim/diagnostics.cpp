@@ -181,6 +181,48 @@ radius = {R}
                      fmt::arg("sigma", tomlReal(sigma)), fmt::arg("R", tomlReal(R)));
 }
 
+std::string bubbleInTankScene(double gasDensity, double addedDensity, double R) {
+  return fmt::format(R"([scene]
+name = "bubble"
+end_time = 0.01
+frame_rate = 100
+domain_min = [-0.05, -0.05, -0.05]
+domain_max = [0.25, 0.45, 0.25]
+[solver]
+pressure = "dfsph"
+particle_spacing = 0.01
+max_dt = 0.0005
+density_formulation = "number"
+[[phase]]
+name = "water"
+rest_density = 1000.0
+[[phase]]
+name = "air"
+rest_density = {rho}
+added_density = {added}
+[[solid]]
+name = "tank"
+shape = "box"
+min = [0.0, 0.0, 0.0]
+max = [0.2, 0.4, 0.2]
+[[fluid]]
+phase = "water"
+min = [0.0, 0.0, 0.0]
+max = [0.2, 0.3, 0.2]
+[[fluid.subtract]]
+shape = "sphere"
+centre = [0.105, 0.105, 0.105]
+radius = {R}
+[[fluid]]
+phase = "air"
+shape = "sphere"
+centre = [0.105, 0.105, 0.105]
+radius = {R}
+[effects.gravity]
+)",
+                     fmt::arg("rho", tomlReal(gasDensity)), fmt::arg("added", tomlReal(addedDensity)), fmt::arg("R", tomlReal(R)));
+}
+
 double volumeRadius(size_t n, double spacing) { return std::cbrt(3 * double(n) * std::pow(spacing, 3) / (4 * kPi)); }
 
 Vec3 centroidOf(const ParticleSet& q, const std::function<bool(size_t)>& in) {

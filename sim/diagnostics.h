@@ -56,6 +56,12 @@ WrongSide massOnTheWrongSide(const ParticleSet& particles, int heavyPhase, doubl
 /// of `report accuracy`'s static drop.
 std::string freeDropScene(const std::string& solver, double R, double spacing, double sigma, double endTime);
 
+/// A ball of gas (rest density `gasDensity`, added density `addedDensity`, phase "air") of radius
+/// R at the centre of a 20 x 40 x 20 cm tank of still water filled to 30 cm, at 1 cm spacing, on
+/// DFSPH with the number density: a bubble starting up from rest (docs/pressure_solvers.md,
+/// "Light phases: the added density"). R = 0.0055 m holds one particle, 0.025 m 81.
+std::string bubbleInTankScene(double gasDensity, double addedDensity, double R);
+
 /// The radius of a ball that holds n particles of volume spacing^3: a seeded drop's size by volume.
 double volumeRadius(size_t n, double spacing);
 
