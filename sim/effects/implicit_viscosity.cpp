@@ -214,7 +214,10 @@ ImplicitViscosityStats solveImplicitViscosity(const StepContext& ctx, ParticleSe
   // all but zero (a stream falling straight down has |m v_x| ~ 1e-149) underflows Eigen's own
   // relative test, which then reports a failure after 0 iterations.
   Real momentum2 = 0;
-  for (size_t i = 0; i < n; ++i) momentum2 += lengthSquared(ps.velocity[i]) * inertialMass(ctx, ps, i) * inertialMass(ctx, ps, i);
+  for (size_t i = 0; i < n; ++i) {
+    const Real m = inertialMass(ctx, ps, i);
+    momentum2 += lengthSquared(ps.velocity[i]) * m * m;
+  }
   const Real momentum = std::sqrt(momentum2);
   for (int c = 0; c < 3; ++c) {
     for (size_t i = 0; i < n; ++i) {
